@@ -1,0 +1,214 @@
+#include "cli/commands.h"
+
+#include "loaders/dem_loader.h"
+#include "loaders/errors.h"
+#include "loaders/image_io.h"
+#include "tracer/terrain_renderer.h"
+
+#include <fmt/core.h>
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+namespace terracast {
+
+namespace {
+
+// Runs a command body, mapping exceptions to one line on stderr and an exit code.
+template <class Body>
+int guarded(Body&& body) {
+    try {
+        return body();
+    } catch (const InputError& e) {
+        fmt::print(stderr, "terracast: error: {}\n", e.what());
+        return 2;
+    } catch (const GridError& e) {
+        fmt::print(stderr, "terracast: error: {}\n", e.what());
+        return 2;
+    } catch (const std::bad_alloc&) {
+        fmt::print(stderr, "terracast: error: out of memory\n");
+        return 1;
+    } catch (const std::exception& e) {
+        fmt::print(stderr, "terracast: error: {}\n", e.what());
+        return 1;
+    }
+}
+
+LoadedDem load(const DemOptions& o) {
+    DemLoadOptions lo;
+    lo.imageCellSizeM = o.imageCellSizeM;
+    lo.imageHeightScale = o.imageHeightScale;
+    LoadedDem dem = loadDem(o.path, lo);
+    for (const auto& w : dem.warnings) fmt::print(stderr, "terracast: warning: {}\n", w);
+    return dem;
+}
+
+std::string humanBytes(double bytes) {
+    const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
+    int u = 0;
+    while (bytes >= 1024.0 && u < 4) {
+        bytes /= 1024.0;
+        ++u;
+    }
+    return fmt::format("{:.1f} {}", bytes, units[u]);
+}
+
+double peakResidentBytes() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return double(usage.ru_maxrss) * 1024.0;
+}
+
+// Progress on stderr when it is a terminal: percentage, rays per second and time left.
+class TerminalProgress {
+public:
+    explicit TerminalProgress(bool enabled) : enabled_(enabled && isatty(fileno(stderr))) {}
+    void update(double fraction, int64_t rays) {
+        if (!enabled_) return;
+        const auto now = std::chrono::steady_clock::now();
+        if (fraction < 1.0 && now - last_ < std::chrono::milliseconds(200)) return;
+        last_ = now;
+        const double elapsed = std::chrono::duration<double>(now - start_).count();
+        const double eta = fraction > 0.0 ? elapsed * (1.0 - fraction) / fraction : 0.0;
+        fmt::print(stderr, "\rrender {:5.1f}%  {:.2f} Mrays/s  ETA {:.0f} s   ", 100.0 * fraction,
+                   elapsed > 0.0 ? double(rays) / elapsed * 1e-6 : 0.0, eta);
+        dirty_ = true;
+    }
+    ~TerminalProgress() {
+        if (dirty_) fmt::print(stderr, "\r{:60}\r", "");
+    }
+
+private:
+    bool enabled_;
+    bool dirty_ = false;
+    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+    std::chrono::steady_clock::time_point last_{};
+};
+
+void checkOutputPath(const std::string& output, const std::string& input) {
+    namespace fs = std::filesystem;
+    std::string ext = fs::path(output).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext != ".png" && ext != ".exr")
+        throw InputError(fmt::format("{}: unsupported output format '{}' (expected .png or .exr)", output, ext));
+    std::error_code ec;
+    if (fs::exists(output, ec) && fs::exists(input, ec) && fs::equivalent(output, input, ec))
+        throw InputError(fmt::format("{}: output path is the input DEM; refusing to overwrite it", output));
+    const fs::path dir = fs::path(output).parent_path();
+    if (!dir.empty() && !fs::is_directory(dir, ec))
+        throw InputError(fmt::format("{}: output folder '{}' does not exist", output, dir.string()));
+}
+
+}  // namespace
+
+bool parseSize(const std::string& text, int& width, int& height) {
+    const auto x = text.find_first_of("xX");
+    if (x == std::string::npos) return false;
+    try {
+        size_t a = 0, b = 0;
+        const long w = std::stol(text.substr(0, x), &a);
+        const long h = std::stol(text.substr(x + 1), &b);
+        if (a != x || b != text.size() - x - 1 || w <= 0 || h <= 0 || w > 65536 || h > 65536) return false;
+        width = int(w);
+        height = int(h);
+        return true;
+    } catch (const std::exception&) {
+        return false;
+    }
+}
+
+bool parsePair(const std::string& text, double& a, double& b) {
+    const auto comma = text.find(',');
+    if (comma == std::string::npos) return false;
+    try {
+        size_t na = 0, nb = 0;
+        const double x = std::stod(text.substr(0, comma), &na);
+        const double y = std::stod(text.substr(comma + 1), &nb);
+        if (na != comma || nb != text.size() - comma - 1 || !std::isfinite(x) || !std::isfinite(y)) return false;
+        a = x;
+        b = y;
+        return true;
+    } catch (const std::exception&) {
+        return false;
+    }
+}
+
+int runInfo(const InfoOptions& options) {
+    return guarded([&] {
+        const LoadedDem dem = load(options.dem);
+        const HeightGrid& g = dem.grid;
+        const double total = double(g.width()) * double(g.height());
+        fmt::print("file:        {}\n", dem.path);
+        fmt::print("driver:      {}\n", dem.driver);
+        fmt::print("size:        {} x {} vertices ({} x {} cells)\n", g.width(), g.height(), g.cellsX(), g.cellsY());
+        if (dem.geo.georeferenced) {
+            fmt::print("crs:         {}{}\n", dem.geo.crsName.empty() ? "(unnamed)" : dem.geo.crsName,
+                       dem.geo.geographic ? fmt::format(" (geographic, converted at latitude {:.4f})",
+                                                        dem.geo.centreLatDeg)
+                                          : "");
+            fmt::print("origin:      {:.3f}, {:.3f} (south-west sample, CRS units)\n", dem.geo.originX, dem.geo.originY);
+        } else {
+            fmt::print("crs:         none (plain height map)\n");
+        }
+        fmt::print("cell size:   {:.3f} x {:.3f} m\n", g.cellSizeXM(), g.cellSizeYM());
+        fmt::print("extent:      {:.1f} x {:.1f} m\n", g.extentXM(), g.extentYM());
+        fmt::print("heights:     {:.2f} .. {:.2f} m\n", g.minHeightM(), g.maxHeightM());
+        fmt::print("nodata:      {:.2f}% of vertices ({} of {}), {} valid cells\n",
+                   100.0 * double(g.nodataVertexCount()) / total, g.nodataVertexCount(), int64_t(total),
+                   g.validCellCount());
+        fmt::print("memory:      {} for the grid; about {} to render at 1280x720\n", humanBytes(double(g.memoryBytes())),
+                   humanBytes(double(g.memoryBytes()) + 1280.0 * 720.0 * 12.0));
+        return 0;
+    });
+}
+
+int runRender(const RenderOptions& o) {
+    return guarded([&] {
+        checkOutputPath(o.output, o.dem.path);
+        if (!(o.exaggeration > 0.0) || !std::isfinite(o.exaggeration))
+            throw InputError(fmt::format("--exaggeration: expected a positive number, found {}", o.exaggeration));
+        if (!(o.sunElevationDeg >= -90.0 && o.sunElevationDeg <= 90.0))
+            throw InputError(fmt::format("--sun: elevation must lie in [-90, 90] degrees, found {}", o.sunElevationDeg));
+        LoadedDem dem = load(o.dem);
+        HeightGrid& grid = dem.grid;
+        if (o.exaggeration != 1.0) grid.scaleHeights(float(o.exaggeration));
+
+        TerrainRenderSettings s;
+        s.width = o.width;
+        s.height = o.height;
+        s.method = o.method;
+        s.threads = o.threads;
+        s.sun.azimuthDeg = o.sunAzimuthDeg;
+        s.sun.elevationDeg = o.sunElevationDeg;
+        const double aspect = double(o.width) / double(o.height);
+        s.camera = autoCamera(grid, aspect);
+        if (!o.camera.empty()) {
+            if (auto err = parseCamera(o.camera, s.camera)) throw InputError("--camera: " + *err);
+        }
+        TerminalProgress progress(!o.quiet);
+        s.progress = [&](double f, int64_t rays) { progress.update(f, rays); };
+
+        RenderStats stats;
+        Film film = renderTerrain(grid, s, &stats);
+        writeImage(o.output, RgbImage{film.width, film.height, std::move(film.rgb)});
+        if (!o.quiet) {
+            const int64_t rays = stats.primaryRays + stats.shadowRays;
+            fmt::print(stderr,
+                       "terracast: rendered {} ({}x{}, {}) in {:.2f} s: {} primary + {} shadow rays, {:.2f} Mrays/s, "
+                       "peak memory {}\n",
+                       o.output, o.width, o.height, cellMethodName(o.method), stats.seconds, stats.primaryRays,
+                       stats.shadowRays, stats.seconds > 0 ? double(rays) / stats.seconds * 1e-6 : 0.0,
+                       humanBytes(peakResidentBytes()));
+        }
+        return 0;
+    });
+}
+
+}  // namespace terracast

@@ -1,0 +1,46 @@
+// The subcommands as library functions: each takes a plain options struct and returns an exit code
+// (0 success, 1 runtime failure, 2 usage or input error), printing results on stdout and diagnostics on
+// stderr.
+#pragma once
+
+#include "heightfield/traversal.h"
+
+#include <string>
+
+namespace terracast {
+
+// Options shared by every command that reads a DEM.
+struct DemOptions {
+    std::string path;               // DEM file
+    double imageCellSizeM = 1.0;    // PNG height maps: metres between samples
+    double imageHeightScale = 1.0;  // PNG height maps: metres per stored unit
+};
+
+// `terracast info DEM`
+struct InfoOptions {
+    DemOptions dem;
+};
+int runInfo(const InfoOptions& options);
+
+// `terracast render DEM -o OUT`
+struct RenderOptions {
+    DemOptions dem;
+    std::string output;                        // .png (8-bit sRGB) or .exr (linear float)
+    int width = 1280;                          // pixels
+    int height = 720;                          // pixels
+    double sunAzimuthDeg = 315.0;              // clockwise from north
+    double sunElevationDeg = 35.0;             // above the horizon
+    double exaggeration = 1.0;                 // vertical scale factor
+    std::string camera;                        // "eye=x,y,z look=x,y,z fov=deg"; empty = automatic view
+    CellMethod method = CellMethod::Bilinear;  // cell intersector
+    int threads = 0;                           // 0 = all cores
+    bool quiet = false;                        // no progress or summary on stderr
+};
+int runRender(const RenderOptions& options);
+
+// Parses "WxH" into positive width and height; returns false on malformed input.
+bool parseSize(const std::string& text, int& width, int& height);
+// Parses "A,B" into two finite numbers; returns false on malformed input.
+bool parsePair(const std::string& text, double& a, double& b);
+
+}  // namespace terracast

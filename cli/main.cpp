@@ -1,0 +1,88 @@
+// terracast: ray tracing of terrain height fields. Parses the command line into options structs and calls
+// one library function per subcommand.
+#include "cli/commands.h"
+
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include <string>
+
+using namespace terracast;
+
+namespace {
+
+void addDemOptions(CLI::App& cmd, DemOptions& dem) {
+    cmd.add_option("DEM", dem.path, "Elevation raster: GeoTIFF, SRTM .hgt, any GDAL raster, or a PNG height map")
+        ->required();
+    cmd.add_option("--cell-size", dem.imageCellSizeM, "PNG height maps: metres between samples (default 1)")
+        ->check(CLI::PositiveNumber);
+    cmd.add_option("--height-scale", dem.imageHeightScale,
+                   "PNG height maps: metres per stored unit, 0..255 or 0..65535 (default 1)")
+        ->check(CLI::PositiveNumber);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"terracast: ray tracing of terrain height fields, exact or triangulated"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", "terracast 0.1.0");
+
+    InfoOptions info;
+    auto* infoCmd = app.add_subcommand("info", "Describe a DEM: size, CRS, cell size, heights, nodata, memory");
+    addDemOptions(*infoCmd, info.dem);
+
+    RenderOptions render;
+    std::string size = "1280x720", sun = "315,35", method = "bilinear";
+    auto* renderCmd = app.add_subcommand("render", "Render a shaded 3D view of a DEM to PNG or EXR");
+    addDemOptions(*renderCmd, render.dem);
+    renderCmd->add_option("-o,--output", render.output, "Output image: .png (8-bit sRGB) or .exr (linear float)")
+        ->required();
+    renderCmd->add_option("--size", size, "Image size WxH in pixels (default 1280x720)");
+    renderCmd->add_option("--sun", sun, "Sun azimuth,elevation in degrees, azimuth clockwise from north (default 315,35)");
+    renderCmd->add_option("--exaggeration", render.exaggeration, "Vertical exaggeration factor (default 1)");
+    renderCmd->add_option("--camera", render.camera,
+                          "\"eye=x,y,z look=x,y,z fov=deg\" in the DEM's local metres (origin at the south-west "
+                          "sample); default: from the south-west, 30 degrees down, framing the DEM");
+    renderCmd->add_option("--method", method,
+                          "Cell intersector: bilinear, bilinear-double, triangles, nearest, reference (default bilinear)");
+    renderCmd->add_option("--threads", render.threads, "Worker threads, 0 = all cores (default 0)")
+        ->check(CLI::NonNegativeNumber);
+    renderCmd->add_flag("-q,--quiet", render.quiet, "No progress or summary on stderr");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        fmt::print(stderr, "terracast: error: {} (see terracast --help)\n", e.what());
+        return 2;
+    }
+
+    if (*infoCmd) return runInfo(info);
+    if (*renderCmd) {
+        if (!parseSize(size, render.width, render.height)) {
+            fmt::print(stderr, "terracast: error: --size: expected WxH with positive integers, found '{}'\n", size);
+            return 2;
+        }
+        if (!parsePair(sun, render.sunAzimuthDeg, render.sunElevationDeg)) {
+            fmt::print(stderr, "terracast: error: --sun: expected AZ,EL in degrees, found '{}'\n", sun);
+            return 2;
+        }
+        const auto m = parseCellMethod(method);
+        if (!m) {
+            fmt::print(stderr,
+                       "terracast: error: --method: expected bilinear, bilinear-double, triangles, nearest or "
+                       "reference, found '{}'\n",
+                       method);
+            return 2;
+        }
+        render.method = *m;
+        return runRender(render);
+    }
+    return 2;
+}

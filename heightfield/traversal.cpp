@@ -1,0 +1,249 @@
+#include "heightfield/traversal.h"
+
+#include "heightfield/cell_intersectors.h"
+#include "heightfield/dda.h"
+
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace terracast {
+
+namespace {
+
+struct MethodName {
+    CellMethod method;
+    const char* name;
+};
+constexpr std::array<MethodName, 5> kMethodNames{{
+    {CellMethod::Bilinear, "bilinear"},
+    {CellMethod::BilinearDouble, "bilinear-double"},
+    {CellMethod::Triangles, "triangles"},
+    {CellMethod::Nearest, "nearest"},
+    {CellMethod::Reference, "reference"},
+}};
+
+enum class Shape { Bilinear, Triangles, Nearest };
+
+template <class Real>
+CellCorners<Real> corners(const HeightGrid& g, int64_t i, int64_t j) {
+    return {Real(g.at(i, j)), Real(g.at(i + 1, j)), Real(g.at(i, j + 1)), Real(g.at(i + 1, j + 1))};
+}
+
+// Surface height minus ray height at a point on the boundary `side` of cell (i, j), or inside the cell.
+// On an edge only that edge's two vertices are used, in a fixed order, so that both cells sharing the edge
+// compute the same bits (see cell_intersectors.h on watertightness).
+template <class Real, Shape shape>
+Real surfaceAboveRay(const HeightGrid& g, const CellCorners<Real>& h, int64_t i, int64_t j, CellSide side,
+                     const glm::dvec3& pGrid) {
+    auto lerp = [](Real a, Real b, Real w) { return (Real(1) - w) * a + w * b; };
+    auto frac = [](double x) { return std::clamp(Real(x), Real(0), Real(1)); };
+    const Real z = Real(pGrid.z);
+    switch (side) {
+    case CellSide::XLow:
+    case CellSide::XHigh: {
+        const int64_t x = side == CellSide::XLow ? i : i + 1;
+        return lerp(Real(g.at(x, j)), Real(g.at(x, j + 1)), frac(pGrid.y - double(j))) - z;
+    }
+    case CellSide::YLow:
+    case CellSide::YHigh: {
+        const int64_t y = side == CellSide::YLow ? j : j + 1;
+        return lerp(Real(g.at(i, y)), Real(g.at(i + 1, y)), frac(pGrid.x - double(i))) - z;
+    }
+    case CellSide::Interior:
+        break;
+    }
+    const Real u = frac(pGrid.x - double(i));
+    const Real v = frac(pGrid.y - double(j));
+    if constexpr (shape == Shape::Triangles) {
+        if (inUpperTriangle(u, v))
+            return h.h11 - (h.h11 - h.h01) * (Real(1) - u) - (h.h11 - h.h10) * (Real(1) - v) - z;
+        return h.h00 + (h.h10 - h.h00) * u + (h.h01 - h.h00) * v - z;
+    }
+    return bilinearHeight(h, u, v) - z;
+}
+
+// True when the bilinear G(s) = A s^2 + B s + C of a segment comes within `tolM` of zero without a clean
+// crossing: for a segment without a hit, anywhere on it; for a segment with a hit, at G's extreme inside it
+// (a tangent touch, or a dip shallower than the tolerance).
+template <class Real>
+bool grazes(const CellCorners<Real>& h, const CellSegment<Real>& seg, bool hit, double tolM) {
+    const Real A = h.d() * seg.du * seg.dv;
+    const Real B = h.b() * seg.du + h.c() * seg.dv + h.d() * (seg.u0 * seg.dv + seg.v0 * seg.du) - seg.dz;
+    const Real C = seg.gEntry;
+    auto G = [&](Real s) { return double(std::abs((A * s + B) * s + C)); };
+    if (A != Real(0)) {
+        const Real sv = -B / (Real(2) * A);
+        if (sv > Real(0) && sv < seg.length && G(sv) < tolM) return true;
+    }
+    return !hit && std::min(G(Real(0)), G(seg.length)) < tolM;
+}
+
+template <class Real>
+Real unitRoundoff() {
+    return std::numeric_limits<Real>::epsilon();
+}
+
+template <class Real, Shape shape>
+std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interval interval, bool anyHit,
+                                    TraceCounters* counters) {
+    if (interval.empty()) return std::nullopt;
+    const glm::dvec3 og{ray.origin.x / g.cellSizeXM(), ray.origin.y / g.cellSizeYM(), ray.origin.z};
+    const glm::dvec3 dg{ray.dir.x / g.cellSizeXM(), ray.dir.y / g.cellSizeYM(), ray.dir.z};
+    if (dg.x == 0.0 && dg.y == 0.0 && dg.z == 0.0) return std::nullopt;
+    if (!std::isfinite(og.x + og.y + og.z + dg.x + dg.y + dg.z)) return std::nullopt;
+
+    // The z slab is padded so a flat grid (zmin == zmax) still yields a segment of non-zero length.
+    const double zLo = g.minHeightM(), zHi = g.maxHeightM();
+    const double zPad = 1e-6 * (1.0 + std::max(std::abs(zLo), std::abs(zHi)));
+    double t0 = interval.lo, t1 = interval.hi;
+    if (!clipToSlab(og.z, dg.z, zLo - zPad, zHi + zPad, t0, t1)) return std::nullopt;
+    if (!std::isfinite(t0) || !std::isfinite(t1)) {
+        // Only a horizontal ray with an unbounded interval gets here; bound it by the footprint.
+        if (!clipToSlab(og.x, dg.x, 0.0, double(g.cellsX()), t0, t1)) return std::nullopt;
+        if (!clipToSlab(og.y, dg.y, 0.0, double(g.cellsY()), t0, t1)) return std::nullopt;
+        if (!std::isfinite(t0) || !std::isfinite(t1)) return std::nullopt;
+    }
+
+    const Real eps = unitRoundoff<Real>();
+    const double heightScale = std::max(std::abs(zLo), std::abs(zHi));
+    const double tolerance = grazingToleranceM(g);
+    // A cell is skipped when the ray's z range over it clears the cell's height range by this margin,
+    // which exceeds any rounding of the edge interpolation, so skipping never breaks watertightness.
+    double margin = 8.0 * double(eps) * (heightScale + std::abs(og.z)) + 1e-30;
+    if (counters) margin = std::max(margin, tolerance);
+
+    std::optional<HeightFieldHit> result;
+    walkCells(g.cellsX(), g.cellsY(), {og.x, og.y}, {dg.x, dg.y}, t0, t1, [&](const CellVisit& c) {
+        if (counters) ++counters->cellsVisited;
+        if (!g.cellValid(c.i, c.j)) return false;
+        const glm::dvec3 pEnter = og + c.tEnter * dg;
+        const glm::dvec3 pExit = og + c.tExit * dg;
+        const auto h = corners<Real>(g, c.i, c.j);
+        const double zMin = std::min(pEnter.z, pExit.z), zMax = std::max(pEnter.z, pExit.z);
+        if (zMin > double(h.maxHeight()) + margin || zMax < double(h.minHeight()) - margin) return false;
+        if (counters) ++counters->cellsTested;
+
+        CellSegment<Real> seg;
+        seg.u0 = std::clamp(Real(pEnter.x - double(c.i)), Real(0), Real(1));
+        seg.v0 = std::clamp(Real(pEnter.y - double(c.j)), Real(0), Real(1));
+        seg.z0 = Real(pEnter.z);
+        seg.du = Real(dg.x);
+        seg.dv = Real(dg.y);
+        seg.dz = Real(dg.z);
+        seg.length = Real(c.tExit - c.tEnter);
+        seg.gEntry = surfaceAboveRay<Real, shape>(g, h, c.i, c.j, c.entry, pEnter);
+        seg.gExit = surfaceAboveRay<Real, shape>(g, h, c.i, c.j, c.exit, pExit);
+
+        std::optional<Real> s;
+        if constexpr (shape == Shape::Bilinear) s = intersectBilinearCell(h, seg);
+        else if constexpr (shape == Shape::Triangles) s = intersectTrianglesCell(h, seg);
+        else s = intersectNearestCell(h, seg);
+
+        if constexpr (shape == Shape::Bilinear)
+            if (counters && !counters->ambiguous) counters->ambiguous = grazes(h, seg, s.has_value(), tolerance);
+        if (!s) return false;
+
+        const double t = c.tEnter + double(*s);
+        if (!interval.contains(t)) return false;
+
+        HeightFieldHit hit;
+        hit.t = t;
+        hit.cellX = c.i;
+        hit.cellY = c.j;
+        const Real u = std::clamp(seg.u0 + *s * seg.du, Real(0), Real(1));
+        const Real v = std::clamp(seg.v0 + *s * seg.dv, Real(0), Real(1));
+        hit.u = double(u);
+        hit.v = double(v);
+        hit.pointM = ray.at(t);
+        double dhdu = 0.0, dhdv = 0.0;
+        if constexpr (shape == Shape::Bilinear) {
+            dhdu = double(h.b() + h.d() * v);
+            dhdv = double(h.c() + h.d() * u);
+        } else if constexpr (shape == Shape::Triangles) {
+            if (inUpperTriangle(u, v)) {
+                dhdu = double(h.h11 - h.h01);
+                dhdv = double(h.h11 - h.h10);
+            } else {
+                dhdu = double(h.h10 - h.h00);
+                dhdv = double(h.h01 - h.h00);
+            }
+        }
+        glm::dvec3 n{-dhdu / g.cellSizeXM(), -dhdv / g.cellSizeYM(), 1.0};
+        if constexpr (shape == Shape::Nearest) {
+            // A hit at the entry below the square's level is a wall hit.
+            const Real level = Real(0.25) * ((h.h00 + h.h10) + (h.h01 + h.h11));
+            if (*s == Real(0) && level - seg.z0 >= Real(0)) {
+                switch (c.entry) {
+                case CellSide::XLow: n = {-1, 0, 0}; break;
+                case CellSide::XHigh: n = {1, 0, 0}; break;
+                case CellSide::YLow: n = {0, -1, 0}; break;
+                case CellSide::YHigh: n = {0, 1, 0}; break;
+                case CellSide::Interior: break;
+                }
+            }
+        }
+        hit.normal = glm::normalize(n);
+        const double magnitude = std::abs(hit.pointM.x) + std::abs(hit.pointM.y) + std::abs(hit.pointM.z);
+        hit.errorM = 16.0 * double(eps) * (std::abs(hit.pointM.z) + heightScale + g.cellSizeXM() + g.cellSizeYM()) +
+                     16.0 * std::numeric_limits<double>::epsilon() * magnitude;
+        result = hit;
+        (void)anyHit;  // the first hit in t order is also the first found: both stop here
+        return true;
+    });
+    return result;
+}
+
+std::optional<HeightFieldHit> dispatch(const HeightGrid& g, const Ray& ray, Interval interval, CellMethod method,
+                                       bool anyHit, TraceCounters* counters) {
+    switch (method) {
+    case CellMethod::Bilinear: return trace<float, Shape::Bilinear>(g, ray, interval, anyHit, counters);
+    case CellMethod::BilinearDouble: return trace<double, Shape::Bilinear>(g, ray, interval, anyHit, counters);
+    case CellMethod::Triangles: return trace<float, Shape::Triangles>(g, ray, interval, anyHit, counters);
+    case CellMethod::Nearest: return trace<float, Shape::Nearest>(g, ray, interval, anyHit, counters);
+    case CellMethod::Reference: return trace<long double, Shape::Bilinear>(g, ray, interval, anyHit, counters);
+    }
+    return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<CellMethod> parseCellMethod(std::string_view name) {
+    for (const auto& m : kMethodNames)
+        if (name == m.name) return m.method;
+    return std::nullopt;
+}
+
+const char* cellMethodName(CellMethod method) {
+    for (const auto& m : kMethodNames)
+        if (m.method == method) return m.name;
+    return "?";
+}
+
+const std::vector<CellMethod>& allCellMethods() {
+    static const std::vector<CellMethod> methods{CellMethod::Bilinear, CellMethod::BilinearDouble,
+                                                 CellMethod::Triangles, CellMethod::Nearest, CellMethod::Reference};
+    return methods;
+}
+
+std::optional<HeightFieldHit> intersect(const HeightGrid& grid, const Ray& ray, Interval interval, CellMethod method,
+                                        TraceCounters* counters) {
+    return dispatch(grid, ray, interval, method, false, counters);
+}
+
+bool occluded(const HeightGrid& grid, const Ray& ray, Interval interval, CellMethod method, TraceCounters* counters) {
+    return dispatch(grid, ray, interval, method, true, counters).has_value();
+}
+
+glm::dvec3 spawnOrigin(const HeightFieldHit& hit, const glm::dvec3& dir) {
+    const double side = glm::dot(hit.normal, dir) >= 0.0 ? 1.0 : -1.0;
+    return hit.pointM + side * hit.errorM * hit.normal;
+}
+
+double grazingToleranceM(const HeightGrid& grid) {
+    const double scale = std::max({std::abs(double(grid.minHeightM())), std::abs(double(grid.maxHeightM())),
+                                   grid.cellSizeXM(), grid.cellSizeYM()});
+    return 8.0 * double(std::numeric_limits<float>::epsilon()) * scale;
+}
+
+}  // namespace terracast

@@ -1,0 +1,70 @@
+// Tracing rays against a height grid: clip to the grid's box, walk the cells with the DDA, hit each cell
+// with the chosen cell intersector.
+#pragma once
+
+#include "heightfield/geometry.h"
+#include "heightfield/height_grid.h"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace terracast {
+
+// How each cell is hit (DESIGN.md section 5). Speed and accuracy trade against each other.
+enum class CellMethod {
+    Bilinear,        // exact bilinear patch, float arithmetic in cell-local coordinates
+    BilinearDouble,  // the same in double
+    Triangles,       // two triangles per cell, diagonal (i+1, j)-(i, j+1) as in Embree's grid geometry
+    Nearest,         // a flat square per cell at the mean of its corners, with vertical walls
+    Reference,       // the bilinear patch in long double: the yardstick of the accuracy report
+};
+
+// Parses "bilinear", "bilinear-double", "triangles", "nearest" or "reference".
+std::optional<CellMethod> parseCellMethod(std::string_view name);
+// The name parseCellMethod accepts.
+const char* cellMethodName(CellMethod method);
+// All methods, in the order reports list them.
+const std::vector<CellMethod>& allCellMethods();
+
+// A ray's hit on the height field, in the grid's local frame (metres).
+struct HeightFieldHit {
+    double t = 0.0;             // ray parameter
+    glm::dvec3 pointM{0.0};     // hit position
+    glm::dvec3 normal{0, 0, 1}; // unit geometric normal, pointing up (+z side of the surface)
+    int64_t cellX = 0;          // cell index along x
+    int64_t cellY = 0;          // cell index along y
+    double u = 0.0;             // position inside the cell, [0, 1] along x
+    double v = 0.0;             // position inside the cell, [0, 1] along y
+    double errorM = 0.0;        // bound on the hit position's rounding error; offset spawned rays by it
+};
+
+// Counters a trace can fill in (optional).
+struct TraceCounters {
+    int64_t cellsVisited = 0;   // cells the DDA walked
+    int64_t cellsTested = 0;    // cells that reached the cell intersector
+    bool ambiguous = false;     // the ray grazes the surface closer than the float tolerance (see below)
+};
+
+// The nearest hit of `ray` in `interval`, or none. Holes (nodata cells) are passed through.
+// When `counters` is given, `ambiguous` is set if the ray comes within a float-precision tolerance of the
+// surface without crossing it (a near-miss graze) or only dips below it by less than that tolerance:
+// rays whose hit/miss verdict float arithmetic cannot be expected to reproduce.
+std::optional<HeightFieldHit> intersect(const HeightGrid& grid, const Ray& ray, Interval interval,
+                                        CellMethod method, TraceCounters* counters = nullptr);
+
+// True when `ray` hits the height field anywhere in `interval` (stops at the first hit found).
+bool occluded(const HeightGrid& grid, const Ray& ray, Interval interval, CellMethod method,
+              TraceCounters* counters = nullptr);
+
+// The origin of a ray leaving a hit point in direction `dir`: the point pushed along the geometric normal,
+// to the side `dir` goes, by the hit's error bound, so that the new ray cannot re-hit the surface it starts
+// on (pbrt-v4's conservative ray-origin offset).
+glm::dvec3 spawnOrigin(const HeightFieldHit& hit, const glm::dvec3& dir);
+
+// The tolerance in metres below which `intersect` flags a graze as ambiguous for this grid.
+double grazingToleranceM(const HeightGrid& grid);
+
+}  // namespace terracast

@@ -1,0 +1,422 @@
+// Loading elevation rasters. GDAL reads georeferenced rasters (GeoTIFF, SRTM .hgt, ...), OpenImageIO reads
+// PNG height maps; both end in the same HeightGrid with rows flipped so that y points north.
+//
+// Samples sit at pixel centres, following GDAL's geotransform (pixel-is-area; for SRTM .hgt GDAL already
+// shifts the origin half a pixel so that centres fall on whole degrees). Geographic rasters are mapped to
+// metres on the tangent plane at their centre latitude, using the WGS84 meridional and prime-vertical radii
+// of curvature (Snyder 1987, "Map Projections: A Working Manual", USGS Professional Paper 1395).
+#include "loaders/dem_loader.h"
+
+#include "loaders/errors.h"
+
+#include <OpenImageIO/imageio.h>
+#include <cpl_error.h>
+#include <fmt/format.h>
+#include <gdal.h>
+#include <gdal_priv.h>
+#include <ogr_spatialref.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <numbers>
+
+namespace terracast {
+namespace {
+
+constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+constexpr double kMaxGridBytes = 64.0 * kGiB;                        // refuse rasters needing more than this
+constexpr double kBytesPerVertex = sizeof(float) + sizeof(uint8_t);  // height + nodata flag
+constexpr double kLargeExtentDeg = 5.0;                              // wider geographic extents get a warning
+constexpr double kFootM = 0.3048;                                    // international foot
+constexpr double kUsSurveyFootM = 1200.0 / 3937.0;                   // US survey foot
+
+std::string toLower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return s;
+}
+
+// The first line of a library's error message, without trailing blanks.
+std::string firstLine(const std::string& message) {
+    std::string line = message.substr(0, message.find('\n'));
+    while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
+    return line;
+}
+
+// Rejects missing files, folders and empty files before a reader sees them, so the message says what is wrong.
+void checkIsFile(const std::string& path) {
+    if (path.starts_with("/vsi")) return;  // GDAL virtual file systems (/vsizip/, /vsicurl/, ...)
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    if (status.type() == std::filesystem::file_type::not_found) throw InputError(path + ": no such file");
+    if (std::filesystem::is_directory(status)) throw InputError(path + ": is a directory");
+    if (std::filesystem::is_regular_file(status) && std::filesystem::file_size(path, ec) == 0 && !ec)
+        throw InputError(path + ": file is empty");
+}
+
+// Rejects rasters without a cell, and rasters too large to hold, before anything is allocated.
+void checkRasterSize(const std::string& path, int64_t width, int64_t height) {
+    if (width <= 0 || height <= 0) throw InputError(fmt::format("{}: raster is {} x {}", path, width, height));
+    if (width < 2 || height < 2)
+        throw InputError(fmt::format("{}: {} x {} raster has no cell to trace (need at least 2 x 2)", path, width,
+                                     height));
+    const double bytes = static_cast<double>(width) * static_cast<double>(height) * kBytesPerVertex;
+    if (bytes > kMaxGridBytes)
+        throw InputError(fmt::format("{}: {} x {} raster needs {:.1f} GiB for heights and nodata mask, more than "
+                                     "the {:.0f} GiB limit",
+                                     path, width, height, bytes / kGiB, kMaxGridBytes / kGiB));
+}
+
+// Builds the grid, naming the file in any GridError, and refuses grids without a cell to trace.
+HeightGrid makeGrid(const std::string& path, int64_t width, int64_t height, double cellSizeXM, double cellSizeYM,
+                    std::vector<float> heightsM, std::vector<uint8_t> valid) {
+    HeightGrid grid;
+    try {
+        grid = HeightGrid(width, height, cellSizeXM, cellSizeYM, std::move(heightsM), std::move(valid));
+    } catch (const GridError& e) {
+        throw InputError(path + ": " + e.what());
+    }
+    if (grid.nodataVertexCount() == width * height) throw InputError(path + ": every vertex is nodata");
+    if (grid.validCellCount() == 0)
+        throw InputError(fmt::format("{}: no cell has four valid corners ({} of {} vertices are nodata)", path,
+                                     grid.nodataVertexCount(), width * height));
+    return grid;
+}
+
+// ---- GDAL ----
+
+// Registers GDAL's drivers once per process.
+void registerGdalDrivers() {
+    static std::once_flag once;
+    std::call_once(once, [] { GDALAllRegister(); });
+}
+
+// Keeps GDAL from printing on this thread while it lives; failures reach the user as InputError instead.
+class QuietGdalErrors {
+public:
+    QuietGdalErrors() {
+        CPLPushErrorHandler(CPLQuietErrorHandler);
+        CPLErrorReset();
+    }
+    ~QuietGdalErrors() { CPLPopErrorHandler(); }
+    QuietGdalErrors(const QuietGdalErrors&) = delete;
+    QuietGdalErrors& operator=(const QuietGdalErrors&) = delete;
+};
+
+// GDAL's last error on this thread as " (message)", or "" when it gave none.
+std::string gdalReason() {
+    const std::string line = firstLine(CPLGetLastErrorMsg());
+    return line.empty() ? std::string() : " (" + line + ")";
+}
+
+// Metres per stored unit of a band, and the warning that states any assumption or conversion.
+struct VerticalUnit {
+    double metresPerUnit = 1.0;
+    std::string warning;  // empty when the unit is metres
+};
+
+// Interprets a band's unit type ("m", "ft", "US survey foot", ...); an empty or unknown unit means metres.
+VerticalUnit verticalUnit(const std::string& path, const std::string& unitType) {
+    const std::string unit = toLower(unitType);
+    if (unit.empty()) return {1.0, path + ": no vertical unit, assuming metres"};
+    if (unit == "m" || unit == "metre" || unit == "meter" || unit == "metres" || unit == "meters") return {1.0, ""};
+    if (unit == "ft" || unit == "foot" || unit == "feet" || unit == "international foot")
+        return {kFootM, path + ": heights in feet, converted to metres"};
+    if (unit == "us survey foot" || unit == "ftus" || unit == "us-ft" || unit == "us_survey_foot")
+        return {kUsSurveyFootM, path + ": heights in US survey feet, converted to metres"};
+    return {1.0, fmt::format("{}: unknown vertical unit '{}', assuming metres", path, unitType)};
+}
+
+// How raster pixels map onto the metric lattice.
+struct Lattice {
+    double cellSizeXM = 1.0;
+    double cellSizeYM = 1.0;
+    bool flipRows = true;      // raster row 0 is the north edge
+    bool flipColumns = false;  // raster column 0 is the east edge
+};
+
+// True for the identity transform GDAL reports for rasters without georeferencing.
+bool isDefaultGeoTransform(const double gt[6]) {
+    return gt[0] == 0.0 && gt[1] == 1.0 && gt[2] == 0.0 && gt[3] == 0.0 && gt[4] == 0.0 && std::abs(gt[5]) == 1.0;
+}
+
+// Reads the dataset's geotransform and CRS into `geo` and returns the metric lattice.
+Lattice georeference(const std::string& path, GDALDataset& dataset, const DemLoadOptions& options,
+                     GeoReference& geo, std::vector<std::string>& warnings) {
+    const int64_t width = dataset.GetRasterXSize();
+    const int64_t height = dataset.GetRasterYSize();
+    double gt[6] = {0, 1, 0, 0, 0, 1};
+    if (dataset.GetGeoTransform(gt) != CE_None || isDefaultGeoTransform(gt)) {
+        // Without a geotransform the raster is a picture: row 0 at the top, samples a fixed distance apart.
+        warnings.push_back(fmt::format("{}: no geotransform, assuming {} m between samples", path,
+                                       options.imageCellSizeM));
+        return {options.imageCellSizeM, options.imageCellSizeM, true, false};
+    }
+    if (gt[2] != 0.0 || gt[4] != 0.0)
+        throw InputError(fmt::format("{}: rotated geotransform (terms {} and {}) is not supported; warp the raster "
+                                     "north-up first (gdalwarp)",
+                                     path, gt[2], gt[4]));
+    if (gt[1] == 0.0 || gt[5] == 0.0 || !std::isfinite(gt[1]) || !std::isfinite(gt[5]))
+        throw InputError(fmt::format("{}: geotransform has pixel size {} x {}", path, gt[1], gt[5]));
+
+    std::copy(gt, gt + 6, geo.geoTransform);
+    geo.georeferenced = true;
+    Lattice lattice;
+    lattice.flipRows = gt[5] < 0.0;
+    lattice.flipColumns = gt[1] < 0.0;
+    // Vertex (0, 0) is the centre of the south-west pixel.
+    const double westColumn = lattice.flipColumns ? static_cast<double>(width - 1) : 0.0;
+    const double southRow = lattice.flipRows ? static_cast<double>(height - 1) : 0.0;
+    geo.originX = gt[0] + (westColumn + 0.5) * gt[1];
+    geo.originY = gt[3] + (southRow + 0.5) * gt[5];
+
+    const double pixelX = std::abs(gt[1]);
+    const double pixelY = std::abs(gt[5]);
+    const OGRSpatialReference* srs = dataset.GetSpatialRef();
+    if (srs == nullptr || srs->IsEmpty()) {
+        warnings.push_back(path + ": no CRS, assuming metres");
+        lattice.cellSizeXM = pixelX;
+        lattice.cellSizeYM = pixelY;
+        return lattice;
+    }
+    geo.crsName = srs->GetName() ? srs->GetName() : "";
+    char* wkt = nullptr;
+    const char* const wktOptions[] = {"FORMAT=WKT2_2019", nullptr};
+    if (srs->exportToWkt(&wkt, wktOptions) == OGRERR_NONE && wkt != nullptr) geo.crsWkt = wkt;
+    CPLFree(wkt);
+
+    if (srs->IsGeographic()) {
+        geo.geographic = true;
+        const double degreesPerUnit = srs->GetAngularUnits(nullptr) * 180.0 / std::numbers::pi;
+        const double centreLatDeg = (gt[3] + 0.5 * static_cast<double>(height) * gt[5]) * degreesPerUnit;
+        if (!(std::abs(centreLatDeg) < 90.0))
+            throw InputError(fmt::format("{}: centre latitude {} is outside -90..90 degrees", path, centreLatDeg));
+        geo.centreLatDeg = centreLatDeg;
+        const double extentXDeg = static_cast<double>(width) * pixelX * degreesPerUnit;
+        const double extentYDeg = static_cast<double>(height) * pixelY * degreesPerUnit;
+        if (extentXDeg > kLargeExtentDeg || extentYDeg > kLargeExtentDeg)
+            warnings.push_back(fmt::format("{}: extent {:.2f} x {:.2f} degrees; the local tangent-plane approximation "
+                                           "at latitude {:.2f} distorts distances far from the centre",
+                                           path, extentXDeg, extentYDeg, centreLatDeg));
+        const MetresPerDegree metres = metresPerDegree(centreLatDeg);
+        lattice.cellSizeXM = pixelX * degreesPerUnit * metres.lon;
+        lattice.cellSizeYM = pixelY * degreesPerUnit * metres.lat;
+        return lattice;
+    }
+    const double metresPerUnit = srs->GetLinearUnits(nullptr);
+    lattice.cellSizeXM = pixelX * metresPerUnit;
+    lattice.cellSizeYM = pixelY * metresPerUnit;
+    return lattice;
+}
+
+// Reports a non-finite or out-of-range height at raster (column, row).
+[[noreturn]] void throwBadHeight(const std::string& path, int64_t column, int64_t row, double heightM) {
+    if (std::isnan(heightM))
+        throw InputError(fmt::format("{}: height at column {}, row {} is NaN (not declared as nodata)", path, column,
+                                     row));
+    if (std::isinf(heightM))
+        throw InputError(fmt::format("{}: height at column {}, row {} is {}infinite (not declared as nodata)", path,
+                                     column, row, heightM < 0 ? "minus " : ""));
+    throw InputError(fmt::format("{}: height at column {}, row {} is {:g} m, beyond the float32 range", path, column,
+                                 row, heightM));
+}
+
+// Loads band 1 of any raster GDAL can open.
+LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options) {
+    registerGdalDrivers();
+    QuietGdalErrors quiet;
+    GDALDatasetUniquePtr dataset(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+    if (!dataset) {
+        const std::string reason = gdalReason();
+        const bool unrecognised = reason.find("not recognized as") != std::string::npos;
+        throw InputError(path + ": not a raster GDAL can read" + (unrecognised ? "" : reason));
+    }
+
+    LoadedDem dem;
+    dem.path = path;
+    dem.driver = dataset->GetDriver() ? dataset->GetDriver()->GetDescription() : "";
+    const int64_t width = dataset->GetRasterXSize();
+    const int64_t height = dataset->GetRasterYSize();
+    dem.sourceWidth = width;
+    dem.sourceHeight = height;
+    checkRasterSize(path, width, height);
+    const int bands = dataset->GetRasterCount();
+    if (bands < 1) throw InputError(path + ": raster has no band");
+    if (bands > 1) dem.warnings.push_back(fmt::format("{}: {} bands, using band 1 as elevation", path, bands));
+
+    const Lattice lattice = georeference(path, *dataset, options, dem.geo, dem.warnings);
+
+    GDALRasterBand* band = dataset->GetRasterBand(1);
+    const VerticalUnit unit = verticalUnit(path, band->GetUnitType() ? band->GetUnitType() : "");
+    if (!unit.warning.empty()) dem.warnings.push_back(unit.warning);
+    int hasScale = 0;
+    int hasOffset = 0;
+    const double scale = band->GetScale(&hasScale);
+    const double offset = band->GetOffset(&hasOffset);
+    const double metresPerRaw = (hasScale ? scale : 1.0) * unit.metresPerUnit;
+    const double metresOffset = (hasOffset ? offset : 0.0) * unit.metresPerUnit;
+
+    int hasNodata = 0;
+    const double nodata = band->GetNoDataValue(&hasNodata);
+    const bool float32 = band->GetRasterDataType() == GDT_Float32;
+    // Nodata is compared on stored values; float32 bands often declare it at double precision.
+    auto isNodata = [&](double raw) {
+        if (!hasNodata) return false;
+        if (std::isnan(nodata)) return std::isnan(raw);
+        return raw == nodata || (float32 && static_cast<float>(raw) == static_cast<float>(nodata));
+    };
+
+    const auto vertexCount = static_cast<size_t>(width * height);
+    std::vector<float> heightsM(vertexCount);
+    std::vector<uint8_t> valid;
+    if (hasNodata) valid.assign(vertexCount, 1);
+
+    // Read a strip of rows at a time, as float64 so every integer and float32 type converts exactly.
+    const int64_t rowsPerStrip = std::max<int64_t>(1, (int64_t{1} << 21) / width);
+    std::vector<double> strip(static_cast<size_t>(std::min(rowsPerStrip, height) * width));
+    for (int64_t row0 = 0; row0 < height; row0 += rowsPerStrip) {
+        const int64_t rows = std::min(rowsPerStrip, height - row0);
+        CPLErrorReset();
+        if (band->RasterIO(GF_Read, 0, static_cast<int>(row0), static_cast<int>(width), static_cast<int>(rows),
+                           strip.data(), static_cast<int>(width), static_cast<int>(rows), GDT_Float64, 0, 0,
+                           nullptr) != CE_None)
+            throw InputError(fmt::format("{}: cannot read rows {}..{} of band 1{}", path, row0, row0 + rows - 1,
+                                         gdalReason()));
+        for (int64_t r = 0; r < rows; ++r) {
+            const int64_t row = row0 + r;
+            const int64_t j = lattice.flipRows ? height - 1 - row : row;
+            for (int64_t column = 0; column < width; ++column) {
+                const int64_t i = lattice.flipColumns ? width - 1 - column : column;
+                const auto index = static_cast<size_t>(j * width + i);
+                const double raw = strip[static_cast<size_t>(r * width + column)];
+                if (isNodata(raw)) {
+                    valid[index] = 0;
+                    heightsM[index] = 0.0f;
+                    continue;
+                }
+                const double heightM = raw * metresPerRaw + metresOffset;
+                const auto heightF = static_cast<float>(heightM);
+                if (!std::isfinite(heightF)) throwBadHeight(path, column, row, heightM);
+                heightsM[index] = heightF;
+            }
+        }
+    }
+    dem.grid = makeGrid(path, width, height, lattice.cellSizeXM, lattice.cellSizeYM, std::move(heightsM),
+                        std::move(valid));
+    return dem;
+}
+
+// ---- OpenImageIO ----
+
+// Walks the PNG chunk layout (signature, then length, type, data and CRC per chunk, up to IEND) without
+// decoding anything, so that a truncated file gets a one-line InputError: OpenImageIO leaves libpng's default
+// error handler in place, which prints to stderr. Files that are not PNG at all are left for OpenImageIO.
+void checkPngIsComplete(const std::string& path) {
+    constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    std::error_code ec;
+    const uint64_t size = std::filesystem::file_size(path, ec);
+    std::ifstream in(path, std::ios::binary);
+    unsigned char bytes[8] = {};
+    if (ec || !in.read(reinterpret_cast<char*>(bytes), 8) || !std::equal(bytes, bytes + 8, kSignature)) return;
+    for (uint64_t position = 8;;) {
+        if (position + 8 > size || !in.seekg(static_cast<std::streamoff>(position)) ||
+            !in.read(reinterpret_cast<char*>(bytes), 8))
+            throw InputError(fmt::format("{}: truncated PNG ({} bytes, ends before its IEND chunk)", path, size));
+        const uint64_t length = uint64_t{bytes[0]} << 24 | uint64_t{bytes[1]} << 16 | uint64_t{bytes[2]} << 8 |
+                                uint64_t{bytes[3]};
+        const std::string type(reinterpret_cast<const char*>(bytes + 4), 4);
+        const uint64_t end = position + 12 + length;  // length and type, data, CRC
+        if (end > size)
+            throw InputError(fmt::format("{}: truncated PNG ({} chunk at byte {} ends at byte {}, file has {})", path,
+                                         type, position, end, size));
+        if (type == "IEND") return;
+        position = end;
+    }
+}
+
+// Channel 0 of an open image as raw stored integers, in image row order (row 0 at the top).
+template <typename Sample>
+std::vector<Sample> readChannel0(const std::string& path, OIIO::ImageInput& input, OIIO::TypeDesc type) {
+    const OIIO::ImageSpec& spec = input.spec();
+    std::vector<Sample> samples(static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height));
+    if (!input.read_image(0, 0, 0, 1, type, samples.data()))
+        throw InputError(path + ": cannot read pixels (" + firstLine(input.geterror()) + ")");
+    return samples;
+}
+
+// Loads channel 0 of an 8- or 16-bit PNG height map, scaled by the options.
+LoadedDem loadWithImageInput(const std::string& path, const DemLoadOptions& options) {
+    if (!(options.imageCellSizeM > 0.0) || !std::isfinite(options.imageCellSizeM))
+        throw InputError(fmt::format("{}: image cell size must be positive and finite, got {} m", path,
+                                     options.imageCellSizeM));
+    if (!(options.imageHeightScale > 0.0) || !std::isfinite(options.imageHeightScale))
+        throw InputError(fmt::format("{}: image height scale must be positive and finite, got {} m per unit", path,
+                                     options.imageHeightScale));
+
+    checkPngIsComplete(path);
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);  // keep channel 0 as stored, not multiplied by alpha
+    auto input = OIIO::ImageInput::open(path, &config);
+    if (!input) throw InputError(path + ": cannot read PNG (" + firstLine(OIIO::geterror()) + ")");
+    const OIIO::ImageSpec& spec = input->spec();
+
+    LoadedDem dem;
+    dem.path = path;
+    dem.driver = "PNG (OpenImageIO)";
+    const int64_t width = spec.width;
+    const int64_t height = spec.height;
+    dem.sourceWidth = width;
+    dem.sourceHeight = height;
+    checkRasterSize(path, width, height);
+    if (spec.nchannels > 1)
+        dem.warnings.push_back(fmt::format("{}: {} channels, using channel 0 as height", path, spec.nchannels));
+
+    const auto vertexCount = static_cast<size_t>(width * height);
+    std::vector<float> heightsM(vertexCount);
+    // Image row 0 is the north edge; grid row 0 is the south edge.
+    auto store = [&](const auto& samples) {
+        for (int64_t row = 0; row < height; ++row) {
+            const int64_t j = height - 1 - row;
+            for (int64_t i = 0; i < width; ++i)
+                heightsM[static_cast<size_t>(j * width + i)] = static_cast<float>(
+                    static_cast<double>(samples[static_cast<size_t>(row * width + i)]) * options.imageHeightScale);
+        }
+    };
+    if (spec.format == OIIO::TypeDesc::UINT8)
+        store(readChannel0<uint8_t>(path, *input, OIIO::TypeDesc::UINT8));
+    else if (spec.format == OIIO::TypeDesc::UINT16)
+        store(readChannel0<uint16_t>(path, *input, OIIO::TypeDesc::UINT16));
+    else
+        throw InputError(fmt::format("{}: {} samples, expected 8- or 16-bit unsigned integers", path,
+                                     spec.format.c_str()));
+
+    dem.grid = makeGrid(path, width, height, options.imageCellSizeM, options.imageCellSizeM, std::move(heightsM), {});
+    return dem;
+}
+
+}  // namespace
+
+LoadedDem loadDem(const std::string& path, const DemLoadOptions& options) {
+    checkIsFile(path);
+    // The one place where a format is chosen: PNG height maps through OpenImageIO, everything else through GDAL.
+    if (toLower(std::filesystem::path(path).extension().string()) == ".png") return loadWithImageInput(path, options);
+    return loadWithGdal(path, options);
+}
+
+MetresPerDegree metresPerDegree(double latDeg) {
+    constexpr double a = 6378137.0;            // WGS84 semi-major axis (m)
+    constexpr double f = 1.0 / 298.257223563;  // WGS84 flattening
+    constexpr double e2 = f * (2.0 - f);       // first eccentricity squared
+    const double phi = latDeg * std::numbers::pi / 180.0;
+    const double s = std::sin(phi);
+    const double w = 1.0 - e2 * s * s;
+    const double meridionalM = a * (1.0 - e2) / (w * std::sqrt(w));
+    const double primeVerticalM = a / std::sqrt(w);
+    constexpr double radiansPerDegree = std::numbers::pi / 180.0;
+    return {meridionalM * radiansPerDegree, primeVerticalM * std::cos(phi) * radiansPerDegree};
+}
+
+}  // namespace terracast

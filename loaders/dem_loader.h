@@ -1,0 +1,53 @@
+// Reading elevation rasters into a HeightGrid: GDAL for GeoTIFF, SRTM .hgt and any single-band raster;
+// OpenImageIO for 8- and 16-bit grayscale PNG height maps.
+#pragma once
+
+#include "heightfield/height_grid.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace terracast {
+
+// Where the local frame sits on the Earth. The local origin is vertex (0, 0): the south-west sample.
+struct GeoReference {
+    bool georeferenced = false;     // false for plain height maps (PNG)
+    bool geographic = false;        // true when the source CRS is in degrees
+    std::string crsName;            // short CRS name ("WGS 84", "NAD27 / UTM zone 10N"), empty if none
+    std::string crsWkt;             // full WKT, empty if none
+    double geoTransform[6] = {0, 1, 0, 0, 0, -1};  // GDAL geotransform of the source raster (CRS units)
+    double originX = 0.0;           // source-CRS x of vertex (0, 0) (double: UTM-sized values)
+    double originY = 0.0;           // source-CRS y of vertex (0, 0)
+    double centreLatDeg = 0.0;      // latitude used for the metric conversion of a geographic CRS
+};
+
+// Options for loading a DEM.
+struct DemLoadOptions {
+    double imageCellSizeM = 1.0;    // height maps without georeference: metres between samples
+    double imageHeightScale = 1.0;  // height maps: metres per stored unit (8-bit 0..255, 16-bit 0..65535)
+};
+
+// A loaded DEM: plain data, no GDAL or OpenImageIO types.
+struct LoadedDem {
+    std::string path;               // as given
+    std::string driver;             // "GTiff", "SRTMHGT", "PNG (OpenImageIO)", ...
+    int64_t sourceWidth = 0;        // raster columns
+    int64_t sourceHeight = 0;       // raster rows
+    HeightGrid grid;                // heights in metres, rows flipped so that y points north
+    GeoReference geo;
+    std::vector<std::string> warnings;  // assumptions made while loading, one line each
+};
+
+// Loads a DEM. Throws InputError (one line naming the file and the problem) when the file is missing,
+// not a raster, empty, holds non-finite heights, or has no valid cell.
+LoadedDem loadDem(const std::string& path, const DemLoadOptions& options = {});
+
+// Metres per degree of latitude and longitude on the WGS84 ellipsoid at a latitude (degrees).
+struct MetresPerDegree {
+    double lat;  // north-south
+    double lon;  // east-west
+};
+MetresPerDegree metresPerDegree(double latDeg);
+
+}  // namespace terracast

@@ -1,0 +1,27 @@
+// Writing and reading pictures through OpenImageIO.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace terracast {
+
+// A linear-light RGB picture, row 0 at the top.
+struct RgbImage {
+    int width = 0;
+    int height = 0;
+    std::vector<float> rgb;  // width * height * 3 linear values
+
+    float& at(int x, int y, int c) { return rgb[(static_cast<size_t>(y) * width + x) * 3 + c]; }
+    float at(int x, int y, int c) const { return rgb[(static_cast<size_t>(y) * width + x) * 3 + c]; }
+};
+
+// Writes `image` to `path`; the extension picks the format: .png (8-bit sRGB) or .exr (linear half/float).
+// Writes to a temporary file in the same folder and renames it, so a failure never leaves a partial file.
+// Throws InputError for an unsupported extension or an unwritable folder.
+void writeImage(const std::string& path, const RgbImage& image);
+
+// Reads an image as linear RGB (PNG is decoded from sRGB). Throws InputError on failure.
+RgbImage readImage(const std::string& path);
+
+}  // namespace terracast

@@ -1,0 +1,94 @@
+// The command line: exit codes, one-line errors, and the outputs of info and render.
+#include "loaders/image_io.h"
+#include "support/run_command.h"
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace terracast::testing;
+namespace fs = std::filesystem;
+
+namespace {
+const std::string kSamples = std::string(TERRACAST_SOURCE_DIR) + "/data-samples/";
+const std::string kStHelens = kSamples + "usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif";
+
+fs::path tempDir(const std::string& name) {
+    const fs::path d = fs::temp_directory_path() / ("terracast-cli-" + name + "-" + std::to_string(::getpid()));
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+}  // namespace
+
+TEST_CASE("CLI: a missing DEM exits 2 with one line and writes nothing", "[cli]") {
+    const fs::path dir = tempDir("missing");
+    const auto r = runTerracast("render '" + (dir / "nope.tif").string() + "' -o '" + (dir / "out.png").string() + "'");
+    CHECK(r.exitCode == 2);
+    CHECK(lineCount(r.err) == 1);
+    CHECK(r.err.find("nope.tif") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "out.png"));
+    CHECK(fs::is_empty(dir));
+    fs::remove_all(dir);
+}
+
+TEST_CASE("CLI: a text file passed as a DEM exits 2 with one line", "[cli]") {
+    const fs::path dir = tempDir("text");
+    std::ofstream(dir / "notes.txt") << "this is not an elevation model\n";
+    const auto r = runTerracast("render '" + (dir / "notes.txt").string() + "' -o '" + (dir / "out.png").string() + "'");
+    CHECK(r.exitCode == 2);
+    CHECK(lineCount(r.err) == 1);
+    CHECK(r.err.find("notes.txt") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "out.png"));
+    const auto i = runTerracast("info '" + (dir / "notes.txt").string() + "'");
+    CHECK(i.exitCode == 2);
+    CHECK(lineCount(i.err) == 1);
+    fs::remove_all(dir);
+}
+
+TEST_CASE("CLI: an unknown option or bad value exits 2 with one line", "[cli]") {
+    auto r = runTerracast("render '" + kStHelens + "' -o /tmp/x.png --no-such-option");
+    CHECK(r.exitCode == 2);
+    CHECK(lineCount(r.err) == 1);
+    CHECK(r.err.find("no-such-option") != std::string::npos);
+    r = runTerracast("render '" + kStHelens + "' -o /tmp/x.png --size 12by7");
+    CHECK(r.exitCode == 2);
+    CHECK(lineCount(r.err) == 1);
+    r = runTerracast("render '" + kStHelens + "' -o /tmp/x.png --method cubic");
+    CHECK(r.exitCode == 2);
+    CHECK(r.err.find("cubic") != std::string::npos);
+    r = runTerracast("render '" + kStHelens + "' -o /tmp/x.gif");
+    CHECK(r.exitCode == 2);
+    CHECK(r.err.find(".gif") != std::string::npos);
+    r = runTerracast("");
+    CHECK(r.exitCode == 2);
+}
+
+TEST_CASE("CLI: info reports size, CRS, cell size, heights and nodata", "[cli]") {
+    const auto r = runTerracast("info '" + kStHelens + "'");
+    REQUIRE(r.exitCode == 0);
+    CHECK(r.out.find("327 x 468") != std::string::npos);
+    CHECK(r.out.find("UTM zone 10N") != std::string::npos);
+    CHECK(r.out.find("30.000 x 30.000 m") != std::string::npos);
+    CHECK(r.out.find("682.00 .. 2543.00 m") != std::string::npos);
+    CHECK(r.out.find("2.71%") != std::string::npos);  // 100 - 97.29 % valid, as gdalinfo -stats reports
+}
+
+TEST_CASE("CLI: render writes a PNG of the requested size and a one-line summary", "[cli]") {
+    const fs::path dir = tempDir("render");
+    const fs::path out = dir / "view.png";
+    const auto r = runTerracast("render '" + kStHelens + "' -o '" + out.string() + "' --size 96x64 --threads 1");
+    REQUIRE(r.exitCode == 0);
+    CHECK(lineCount(r.err) == 1);
+    CHECK(r.err.find("primary") != std::string::npos);
+    CHECK(r.err.find("shadow") != std::string::npos);
+    const auto img = terracast::readImage(out.string());
+    CHECK(img.width == 96);
+    CHECK(img.height == 64);
+    // Only the output remains in the folder: no temporary file left behind.
+    int files = 0;
+    for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++files;
+    CHECK(files == 1);
+    fs::remove_all(dir);
+}

@@ -1,0 +1,466 @@
+// Loader tests on the real sample files. Expected figures come from `gdalinfo -stats` and from the tiles'
+// published extents; pixels are cross-checked by reading them independently with GDAL and OpenImageIO.
+#include "loaders/dem_loader.h"
+#include "loaders/errors.h"
+
+#include <OpenImageIO/imageio.h>
+#include <catch2/catch.hpp>
+#include <cpl_error.h>
+#include <gdal_priv.h>
+#include <ogr_spatialref.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+using namespace terracast;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string sample(const std::string& name) { return std::string(TERRACAST_SOURCE_DIR "/data-samples/") + name; }
+
+const std::string kStHelens = sample("usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif");
+const std::string kStormLake = sample("landfire-storm-lake-mt-utm12n-int16-small-nodata.tif");
+const std::string kWhiteMountains = sample("N44W072.srtm3-white-mountains-nh.hgt");
+const std::string kNice = sample("srtm3-n43e007-nice-maritime-alps-coast-geographic-int16.tif");
+const std::string kPugetSound = sample("puget-sound-usgs-1025x1025-16bit-heightmap.png");
+
+// A fresh folder under the system temporary directory, removed with everything in it.
+class TempDir {
+public:
+    TempDir() {
+        static int counter = 0;
+        path_ = fs::temp_directory_path() /
+                ("terracast-dem-test-" + std::to_string(getpid()) + "-" + std::to_string(counter++));
+        fs::remove_all(path_);
+        fs::create_directories(path_);
+    }
+    ~TempDir() {
+        std::error_code ignored;
+        fs::remove_all(path_, ignored);
+    }
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+    std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+private:
+    fs::path path_;
+};
+
+void writeBytes(const std::string& path, const std::string& bytes) {
+    std::ofstream out(path, std::ios::binary);
+    out << bytes;
+}
+
+std::string readBytes(const std::string& path, size_t count) {
+    std::ifstream in(path, std::ios::binary);
+    std::string bytes(count, '\0');
+    in.read(bytes.data(), static_cast<std::streamsize>(count));
+    bytes.resize(static_cast<size_t>(in.gcount()));
+    return bytes;
+}
+
+// One pixel of band 1 at raster (column, row), read with GDAL directly.
+double gdalPixel(const std::string& path, int column, int row) {
+    GDALAllRegister();
+    GDALDatasetUniquePtr dataset(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+    REQUIRE(dataset);
+    double value = 0.0;
+    REQUIRE(dataset->GetRasterBand(1)->RasterIO(GF_Read, column, row, 1, 1, &value, 1, 1, GDT_Float64, 0, 0,
+                                                nullptr) == CE_None);
+    return value;
+}
+
+// A GeoTIFF description for tests: bands of row-major values, row 0 at the top of the raster.
+struct TiffSpec {
+    int width = 3;
+    int height = 3;
+    GDALDataType type = GDT_Float32;
+    std::vector<std::vector<double>> bands;
+    double geoTransform[6] = {500000.0, 10.0, 0.0, 4000000.0, 0.0, -10.0};
+    int epsg = 32633;  // WGS 84 / UTM zone 33N; 0 for none
+    bool setGeoTransform = true;
+    bool hasNodata = false;
+    double nodata = 0.0;
+    std::string unit = "m";
+    double scale = 1.0;
+    double offset = 0.0;
+};
+
+void writeTiff(const std::string& path, const TiffSpec& spec) {
+    GDALAllRegister();
+    GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GTiff");
+    REQUIRE(driver != nullptr);
+    const int bandCount = std::max<int>(1, static_cast<int>(spec.bands.size()));
+    GDALDatasetUniquePtr dataset(driver->Create(path.c_str(), spec.width, spec.height, bandCount, spec.type, nullptr));
+    REQUIRE(dataset);
+    if (spec.setGeoTransform) {
+        double gt[6];
+        std::copy(spec.geoTransform, spec.geoTransform + 6, gt);
+        dataset->SetGeoTransform(gt);
+    }
+    if (spec.epsg != 0) {
+        OGRSpatialReference srs;
+        srs.importFromEPSG(spec.epsg);
+        dataset->SetSpatialRef(&srs);
+    }
+    for (int b = 0; b < static_cast<int>(spec.bands.size()); ++b) {
+        GDALRasterBand* band = dataset->GetRasterBand(b + 1);
+        std::vector<double> values = spec.bands[static_cast<size_t>(b)];
+        REQUIRE(values.size() == static_cast<size_t>(spec.width * spec.height));
+        REQUIRE(band->RasterIO(GF_Write, 0, 0, spec.width, spec.height, values.data(), spec.width, spec.height,
+                               GDT_Float64, 0, 0, nullptr) == CE_None);
+        if (spec.hasNodata) band->SetNoDataValue(spec.nodata);
+        band->SetUnitType(spec.unit.c_str());
+        if (spec.scale != 1.0) band->SetScale(spec.scale);
+        if (spec.offset != 0.0) band->SetOffset(spec.offset);
+    }
+}
+
+double validPercent(const HeightGrid& grid) {
+    const double n = static_cast<double>(grid.width() * grid.height());
+    return 100.0 * (n - static_cast<double>(grid.nodataVertexCount())) / n;
+}
+
+bool anyWarningContains(const LoadedDem& dem, const std::string& text) {
+    return std::any_of(dem.warnings.begin(), dem.warnings.end(),
+                       [&](const std::string& w) { return w.find(text) != std::string::npos; });
+}
+
+// The message of the InputError that loading `path` throws; fails the test when nothing is thrown.
+std::string loadError(const std::string& path, const DemLoadOptions& options = {}) {
+    try {
+        loadDem(path, options);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    FAIL("loading " << path << " did not throw InputError");
+    return {};
+}
+
+bool oneLine(const std::string& message) { return message.find('\n') == std::string::npos; }
+
+}  // namespace
+
+TEST_CASE("Mt St Helens UTM GeoTIFF loads with its size, heights, nodata and origin", "[loaders]") {
+    const LoadedDem dem = loadDem(kStHelens);
+    const HeightGrid& grid = dem.grid;
+    CHECK(dem.driver == "GTiff");
+    CHECK(grid.width() == 327);
+    CHECK(grid.height() == 468);
+    CHECK(grid.cellSizeXM() == Approx(30.0).margin(1e-9));
+    CHECK(grid.cellSizeYM() == Approx(30.0).margin(1e-9));
+    CHECK(grid.minHeightM() == 682.0f);
+    CHECK(grid.maxHeightM() == 2543.0f);
+    CHECK(validPercent(grid) == Approx(97.29).margin(0.01));
+    CHECK(dem.geo.georeferenced);
+    CHECK_FALSE(dem.geo.geographic);
+    CHECK_THAT(dem.geo.crsName, Catch::Contains("UTM zone 10N"));
+    CHECK_FALSE(dem.geo.crsWkt.empty());
+    // Vertex (0, 0) is the centre of the south-west pixel.
+    CHECK(dem.geo.originX == Approx(557805.0 + 15.0).margin(1e-6));
+    CHECK(dem.geo.originY == Approx(5122005.0 - 468.0 * 30.0 + 15.0).margin(1e-6));
+    CHECK(dem.warnings.empty());
+}
+
+TEST_CASE("Storm Lake LANDFIRE GeoTIFF honours a positive nodata value and warns about its missing unit",
+          "[loaders]") {
+    const LoadedDem dem = loadDem(kStormLake);
+    const HeightGrid& grid = dem.grid;
+    CHECK(grid.width() == 143);
+    CHECK(grid.height() == 107);
+    CHECK(grid.cellSizeXM() == Approx(30.0).margin(1e-9));
+    CHECK(grid.cellSizeYM() == Approx(30.0).margin(1e-9));
+    CHECK(grid.minHeightM() == 2438.0f);
+    CHECK(grid.maxHeightM() == 3046.0f);
+    CHECK(validPercent(grid) == Approx(94.27).margin(0.01));
+    CHECK(anyWarningContains(dem, "no vertical unit, assuming metres"));
+}
+
+TEST_CASE("SRTM .hgt tile is geographic, with WGS84 cell sizes at its centre latitude", "[loaders]") {
+    const LoadedDem dem = loadDem(kWhiteMountains);
+    const HeightGrid& grid = dem.grid;
+    CHECK(dem.driver == "SRTMHGT");
+    CHECK(grid.width() == 1201);
+    CHECK(grid.height() == 1201);
+    CHECK(grid.minHeightM() == 115.0f);
+    CHECK(grid.maxHeightM() == 1908.0f);
+    CHECK(grid.nodataVertexCount() == 0);
+    CHECK(dem.geo.geographic);
+    CHECK(dem.geo.centreLatDeg == Approx(44.5).margin(1e-9));
+    CHECK(grid.cellSizeYM() == Approx(92.6).margin(0.1));
+    CHECK(grid.cellSizeXM() == Approx(66.3).margin(0.1));
+    // SRTM samples fall on whole degrees: the south-west sample of N44W072 is at 72 W, 44 N.
+    CHECK(dem.geo.originX == Approx(-72.0).margin(1e-9));
+    CHECK(dem.geo.originY == Approx(44.0).margin(1e-9));
+}
+
+TEST_CASE("Geographic GeoTIFF near Nice loads its below-sea-level heights and nodata share", "[loaders]") {
+    const LoadedDem dem = loadDem(kNice);
+    const HeightGrid& grid = dem.grid;
+    CHECK(grid.width() == 1201);
+    CHECK(grid.height() == 1201);
+    CHECK(grid.minHeightM() == -11.0f);
+    CHECK(grid.maxHeightM() == 2064.0f);
+    CHECK(validPercent(grid) == Approx(99.89).margin(0.01));
+    CHECK(dem.geo.geographic);
+    CHECK(dem.geo.originX == Approx(7.0).margin(1e-9));
+    CHECK(dem.geo.originY == Approx(43.0).margin(1e-9));
+}
+
+TEST_CASE("metresPerDegree matches WGS84 geodesic lengths of a degree", "[loaders]") {
+    // Geodesic lengths of a 1e-4 degree arc divided by 1e-4, from GeographicLib (Karney 2013) on WGS84.
+    CHECK(metresPerDegree(0.0).lat == Approx(110574.276).margin(0.01));
+    CHECK(metresPerDegree(0.0).lon == Approx(111319.491).margin(0.01));
+    CHECK(metresPerDegree(45.0).lat == Approx(111131.777).margin(0.01));
+    CHECK(metresPerDegree(45.0).lon == Approx(78846.835).margin(0.01));
+    CHECK(metresPerDegree(44.5).lat == Approx(111122.008).margin(0.01));
+    CHECK(metresPerDegree(44.5).lon == Approx(79529.562).margin(0.01));
+    CHECK(metresPerDegree(90.0).lon == Approx(0.0).margin(1e-6));
+}
+
+TEST_CASE("PNG height map scales raw 16-bit values and uses the given cell size", "[loaders]") {
+    DemLoadOptions options;
+    options.imageCellSizeM = 160.0;
+    options.imageHeightScale = 0.1;
+    const LoadedDem dem = loadDem(kPugetSound, options);
+    const HeightGrid& grid = dem.grid;
+    CHECK(dem.driver == "PNG (OpenImageIO)");
+    CHECK_FALSE(dem.geo.georeferenced);
+    CHECK(grid.width() == 1025);
+    CHECK(grid.height() == 1025);
+    CHECK(grid.cellSizeXM() == 160.0);
+    CHECK(grid.cellSizeYM() == 160.0);
+    CHECK(grid.minHeightM() == Approx(0.0).margin(1e-6));
+    CHECK(grid.maxHeightM() == Approx(4379.8).margin(1e-3));
+    CHECK(dem.warnings.empty());
+}
+
+TEST_CASE("GDAL rasters are flipped so that grid row 0 is the southmost raster row", "[loaders]") {
+    const LoadedDem dem = loadDem(kStHelens);
+    const int64_t h = dem.grid.height();
+    for (const auto& [column, row] : {std::pair{100, 50}, std::pair{200, 400}, std::pair{160, 234}}) {
+        const double raw = gdalPixel(kStHelens, column, row);
+        REQUIRE(raw > 0.0);  // a valid height, so the comparison means something
+        CHECK(dem.grid.at(column, h - 1 - row) == static_cast<float>(raw));
+    }
+    const LoadedDem srtm = loadDem(kWhiteMountains);
+    CHECK(srtm.grid.at(0, 1200) == static_cast<float>(gdalPixel(kWhiteMountains, 0, 0)));
+    CHECK(srtm.grid.at(1200, 0) == static_cast<float>(gdalPixel(kWhiteMountains, 1200, 1200)));
+}
+
+TEST_CASE("PNG height maps are flipped so that grid row 0 is the bottom image row", "[loaders]") {
+    DemLoadOptions options;
+    options.imageHeightScale = 0.1;
+    const LoadedDem dem = loadDem(kPugetSound, options);
+
+    auto input = OIIO::ImageInput::open(kPugetSound);
+    REQUIRE(input);
+    const OIIO::ImageSpec& spec = input->spec();
+    std::vector<uint16_t> raw(static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height));
+    REQUIRE(input->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT16, raw.data()));
+    const int64_t h = dem.grid.height();
+    for (const auto& [x, y] : {std::pair{300, 10}, std::pair{700, 900}, std::pair{512, 512}}) {
+        const uint16_t stored = raw[static_cast<size_t>(y) * static_cast<size_t>(spec.width) + static_cast<size_t>(x)];
+        REQUIRE(stored > 0);
+        CHECK(dem.grid.at(x, h - 1 - y) == Approx(stored * 0.1).epsilon(1e-6));
+    }
+}
+
+TEST_CASE("Synthetic GeoTIFF: pixel centres, row order, scale, offset and feet", "[loaders]") {
+    TempDir dir;
+    TiffSpec spec;
+    spec.width = 4;
+    spec.height = 3;
+    spec.bands = {{0, 1, 2, 3, 100, 101, 102, 103, 200, 201, 202, 203}};  // 100 * row + column
+    spec.geoTransform[0] = 1000.0;
+    spec.geoTransform[1] = 10.0;
+    spec.geoTransform[3] = 2000.0;
+    spec.geoTransform[5] = -20.0;
+
+    SECTION("north-up rows are flipped and the origin is the south-west pixel centre") {
+        const std::string path = dir.file("north-up.tif");
+        writeTiff(path, spec);
+        const LoadedDem dem = loadDem(path);
+        CHECK(dem.grid.cellSizeXM() == 10.0);
+        CHECK(dem.grid.cellSizeYM() == 20.0);
+        CHECK(dem.geo.originX == 1005.0);
+        CHECK(dem.geo.originY == 1950.0);  // 2000 - 3 * 20 + 10
+        CHECK(dem.grid.at(0, 0) == 200.0f);
+        CHECK(dem.grid.at(3, 0) == 203.0f);
+        CHECK(dem.grid.at(1, 2) == 1.0f);
+        CHECK(dem.warnings.empty());
+    }
+    SECTION("south-up rows keep their order") {
+        spec.geoTransform[5] = 20.0;
+        const std::string path = dir.file("south-up.tif");
+        writeTiff(path, spec);
+        const LoadedDem dem = loadDem(path);
+        CHECK(dem.geo.originY == 2010.0);
+        CHECK(dem.grid.at(0, 0) == 0.0f);
+        CHECK(dem.grid.at(2, 1) == 102.0f);
+    }
+    SECTION("scale, offset and a unit in feet give metres") {
+        spec.scale = 0.5;
+        spec.offset = 10.0;
+        spec.unit = "ft";
+        const std::string path = dir.file("feet.tif");
+        writeTiff(path, spec);
+        const LoadedDem dem = loadDem(path);
+        CHECK(dem.grid.at(1, 2) == Approx((1 * 0.5 + 10.0) * 0.3048).epsilon(1e-6));
+        CHECK(dem.grid.at(3, 0) == Approx((203 * 0.5 + 10.0) * 0.3048).epsilon(1e-6));
+        CHECK(anyWarningContains(dem, "feet"));
+    }
+    SECTION("US survey feet") {
+        spec.unit = "US survey foot";
+        const std::string path = dir.file("us-feet.tif");
+        writeTiff(path, spec);
+        const LoadedDem dem = loadDem(path);
+        CHECK(dem.grid.at(3, 0) == Approx(203.0 * 1200.0 / 3937.0).epsilon(1e-6));
+    }
+    SECTION("a raster without CRS is taken to be in metres, with a warning") {
+        spec.epsg = 0;
+        const std::string path = dir.file("no-crs.tif");
+        writeTiff(path, spec);
+        const LoadedDem dem = loadDem(path);
+        CHECK(dem.grid.cellSizeXM() == 10.0);
+        CHECK(anyWarningContains(dem, "no CRS, assuming metres"));
+    }
+    SECTION("a rotated geotransform is refused") {
+        spec.geoTransform[2] = 0.5;
+        const std::string path = dir.file("rotated.tif");
+        writeTiff(path, spec);
+        const std::string message = loadError(path);
+        CHECK_THAT(message, Catch::Contains(path) && Catch::Contains("rotated"));
+    }
+}
+
+TEST_CASE("A geographic raster spanning many degrees warns about the tangent-plane approximation", "[loaders]") {
+    TempDir dir;
+    TiffSpec spec;
+    spec.bands = {{1, 2, 3, 4, 5, 6, 7, 8, 9}};
+    spec.epsg = 4326;
+    const double gt[6] = {0.0, 4.0, 0.0, 50.0, 0.0, -4.0};  // 12 x 12 degrees
+    std::copy(gt, gt + 6, spec.geoTransform);
+    const std::string path = dir.file("large.tif");
+    writeTiff(path, spec);
+    const LoadedDem dem = loadDem(path);
+    CHECK(dem.geo.centreLatDeg == Approx(44.0));
+    CHECK(anyWarningContains(dem, "tangent-plane"));
+    CHECK(dem.grid.cellSizeXM() == Approx(4.0 * metresPerDegree(44.0).lon));
+}
+
+TEST_CASE("A multi-band GeoTIFF uses band 1 and says so", "[loaders]") {
+    TempDir dir;
+    TiffSpec spec;
+    spec.bands = {{1, 2, 3, 4, 5, 6, 7, 8, 9}, std::vector<double>(9, 50.0), std::vector<double>(9, -5.0)};
+    const std::string path = dir.file("three-bands.tif");
+    writeTiff(path, spec);
+    const LoadedDem dem = loadDem(path);
+    CHECK(dem.grid.minHeightM() == 1.0f);
+    CHECK(dem.grid.maxHeightM() == 9.0f);
+    CHECK(dem.grid.at(0, 2) == 1.0f);
+    CHECK(anyWarningContains(dem, "3 bands, using band 1"));
+}
+
+TEST_CASE("Unreadable inputs throw one-line InputErrors naming the file", "[loaders]") {
+    TempDir dir;
+    std::string path;
+    SECTION("missing file") {
+        path = dir.file("missing.tif");
+        CHECK_THAT(loadError(path), Catch::Contains("no such file"));
+    }
+    SECTION("directory") {
+        path = dir.file("folder.tif");
+        fs::create_directory(path);
+        CHECK_THAT(loadError(path), Catch::Contains("directory"));
+    }
+    SECTION("empty file") {
+        path = dir.file("empty.tif");
+        writeBytes(path, "");
+        CHECK_THAT(loadError(path), Catch::Contains("empty"));
+    }
+    SECTION("text file") {
+        path = dir.file("notes.txt");
+        writeBytes(path, "this is not a raster\nat all\n");
+        CHECK_THAT(loadError(path), Catch::Contains("not a raster"));
+    }
+    SECTION("truncated GeoTIFF") {
+        path = dir.file("truncated.tif");
+        writeBytes(path, readBytes(kStHelens, 1000));
+    }
+    SECTION("truncated PNG") {
+        path = dir.file("truncated.png");
+        writeBytes(path, readBytes(kPugetSound, 1000));
+        CHECK_THAT(loadError(path), Catch::Contains("truncated PNG"));
+    }
+    SECTION("PNG missing only its last bytes") {
+        path = dir.file("no-iend.png");
+        writeBytes(path, readBytes(kPugetSound, static_cast<size_t>(fs::file_size(kPugetSound)) - 6));
+        CHECK_THAT(loadError(path), Catch::Contains("truncated PNG"));
+    }
+    SECTION("text file named .png") {
+        path = dir.file("fake.png");
+        writeBytes(path, "not a png");
+    }
+    SECTION("1 x 1 GeoTIFF") {
+        path = dir.file("one-pixel.tif");
+        TiffSpec spec;
+        spec.width = 1;
+        spec.height = 1;
+        spec.bands = {{42.0}};
+        writeTiff(path, spec);
+        CHECK_THAT(loadError(path), Catch::Contains("1 x 1") && Catch::Contains("2 x 2"));
+    }
+    SECTION("NaN height without nodata") {
+        path = dir.file("nan.tif");
+        TiffSpec spec;
+        spec.bands = {{1, 2, 3, 4, 5, std::numeric_limits<double>::quiet_NaN(), 7, 8, 9}};
+        writeTiff(path, spec);
+        CHECK_THAT(loadError(path), Catch::Contains("NaN") && Catch::Contains("column 2, row 1"));
+    }
+    SECTION("every vertex nodata") {
+        path = dir.file("all-nodata.tif");
+        TiffSpec spec;
+        spec.bands = {std::vector<double>(9, -9999.0)};
+        spec.hasNodata = true;
+        spec.nodata = -9999.0;
+        writeTiff(path, spec);
+        CHECK_THAT(loadError(path), Catch::Contains("every vertex is nodata"));
+    }
+    SECTION("raster too large to hold") {
+        // A VRT declares any size without storing pixels.
+        path = dir.file("huge.vrt");
+        writeBytes(path, "<VRTDataset rasterXSize=\"200000\" rasterYSize=\"200000\">\n"
+                         "  <VRTRasterBand dataType=\"Float32\" band=\"1\"/>\n"
+                         "</VRTDataset>\n");
+        CHECK_THAT(loadError(path), Catch::Contains("GiB") && Catch::Contains("64 GiB limit"));
+    }
+    const std::string message = loadError(path);
+    CHECK_THAT(message, Catch::Contains(path));
+    CHECK(oneLine(message));
+}
+
+TEST_CASE("NaN nodata marks vertices invalid instead of failing", "[loaders]") {
+    TempDir dir;
+    TiffSpec spec;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    spec.width = 4;
+    spec.bands = {{1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, nan}};
+    spec.hasNodata = true;
+    spec.nodata = nan;
+    const std::string path = dir.file("nan-nodata.tif");
+    writeTiff(path, spec);
+    const LoadedDem dem = loadDem(path);
+    CHECK(dem.grid.nodataVertexCount() == 1);
+    CHECK_FALSE(dem.grid.vertexValid(3, 0));  // raster row 2 is the south row
+    CHECK(dem.grid.validCellCount() == 5);
+    CHECK(dem.grid.maxHeightM() == 11.0f);
+}

@@ -1,0 +1,102 @@
+// Independent references for the height-field tests: brute-force cell coverage and root search.
+#pragma once
+
+#include "heightfield/geometry.h"
+#include "heightfield/height_grid.h"
+
+#include <cmath>
+#include <optional>
+#include <random>
+
+namespace terracast::testing {
+
+// Bilinear height of the grid at local metres (x, y), in long double; NaN outside the footprint or in a hole.
+inline long double bilinearHeightAt(const HeightGrid& g, long double xM, long double yM) {
+    long double gx = xM / g.cellSizeXM(), gy = yM / g.cellSizeYM();
+    // Points a rounding error outside the footprint are pulled onto its border.
+    const long double slack = 1e-9L * (1 + g.cellsX() + g.cellsY());
+    if (gx < -slack || gy < -slack || gx > g.cellsX() + slack || gy > g.cellsY() + slack) return NAN;
+    gx = std::clamp<long double>(gx, 0, g.cellsX());
+    gy = std::clamp<long double>(gy, 0, g.cellsY());
+    auto i = static_cast<int64_t>(std::floor(gx));
+    auto j = static_cast<int64_t>(std::floor(gy));
+    i = std::min<int64_t>(i, g.cellsX() - 1);
+    j = std::min<int64_t>(j, g.cellsY() - 1);
+    if (!g.cellValid(i, j)) return NAN;
+    const long double u = gx - i, v = gy - j;
+    const long double h00 = g.at(i, j), h10 = g.at(i + 1, j), h01 = g.at(i, j + 1), h11 = g.at(i + 1, j + 1);
+    return h00 * (1 - u) * (1 - v) + h10 * u * (1 - v) + h01 * (1 - u) * v + h11 * u * v;
+}
+
+// Result of a brute-force root search of G(t) = h(x(t), y(t)) - z(t) along a ray.
+struct BruteForceResult {
+    std::optional<long double> t;  // first crossing
+    long double minAbsGNoCross;    // smallest |G| seen at samples before the crossing (grazing measure)
+};
+
+// Dense sampling of G over [t0, t1] (`samples` steps) and bisection of the first sign change, in long double.
+// Samples in holes or outside the grid are skipped (a hole interrupts the surface).
+inline BruteForceResult bruteForceHit(const HeightGrid& g, const Ray& ray, long double t0, long double t1,
+                                      int samples) {
+    BruteForceResult r{std::nullopt, INFINITY};
+    auto G = [&](long double t) {
+        const long double x = (long double)ray.origin.x + t * (long double)ray.dir.x;
+        const long double y = (long double)ray.origin.y + t * (long double)ray.dir.y;
+        const long double z = (long double)ray.origin.z + t * (long double)ray.dir.z;
+        return bilinearHeightAt(g, x, y) - z;
+    };
+    long double tPrev = t0, gPrev = G(t0);
+    if (gPrev == 0) {
+        r.t = t0;
+        return r;
+    }
+    for (int k = 1; k <= samples; ++k) {
+        const long double t = t0 + (t1 - t0) * k / samples;
+        const long double gt = G(t);
+        if (!std::isnan(gPrev) && !std::isnan(gt)) {
+            if (gt == 0 || (gt < 0) != (gPrev < 0)) {
+                long double lo = tPrev, hi = t, glo = gPrev;
+                for (int it = 0; it < 200 && lo < hi; ++it) {
+                    const long double mid = 0.5L * (lo + hi);
+                    if (mid <= lo || mid >= hi) break;
+                    const long double gm = G(mid);
+                    if (gm == 0) { lo = hi = mid; break; }
+                    if ((gm < 0) == (glo < 0)) { lo = mid; glo = gm; } else hi = mid;
+                }
+                r.t = gt == 0 && (gPrev < 0) == (gt < 0) ? t : 0.5L * (lo + hi);
+                return r;
+            }
+        }
+        if (!std::isnan(gt)) r.minAbsGNoCross = std::min(r.minAbsGNoCross, std::abs(gt));
+        tPrev = t;
+        gPrev = gt;
+    }
+    return r;
+}
+
+// Parameter range where the ray is over the grid's footprint (in metres), or none.
+inline std::optional<std::pair<double, double>> footprintRange(const HeightGrid& g, const Ray& ray, Interval iv) {
+    double t0 = iv.lo, t1 = iv.hi;
+    auto clip = [&](double o, double d, double hi) {
+        if (d == 0) return 0 <= o && o <= hi;
+        double a = (0 - o) / d, b = (hi - o) / d;
+        if (a > b) std::swap(a, b);
+        t0 = std::max(t0, a);
+        t1 = std::min(t1, b);
+        return t0 <= t1;
+    };
+    if (!clip(ray.origin.x, ray.dir.x, g.extentXM()) || !clip(ray.origin.y, ray.dir.y, g.extentYM()))
+        return std::nullopt;
+    return std::make_pair(t0, t1);
+}
+
+// A grid of random heights in [lo, hi] (seeded).
+inline HeightGrid randomGrid(int64_t w, int64_t h, double cellX, double cellY, float lo, float hi, uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<float> U(lo, hi);
+    std::vector<float> z(static_cast<size_t>(w * h));
+    for (auto& v : z) v = U(rng);
+    return HeightGrid(w, h, cellX, cellY, std::move(z));
+}
+
+}  // namespace terracast::testing

@@ -1,0 +1,152 @@
+// The terrain renderer: camera framing, analytic shading of simple grids, and a golden image of a real DEM.
+#include "loaders/dem_loader.h"
+#include "loaders/image_io.h"
+#include "tracer/terrain_renderer.h"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+
+using namespace terracast;
+
+namespace {
+
+HeightGrid flatGrid(int64_t n, double cell, float h) {
+    return HeightGrid(n, n, cell, cell, std::vector<float>(size_t(n * n), h));
+}
+
+// Film coordinates of a world point seen by a pinhole camera ((0,0) top-left, (1,1) bottom-right).
+glm::dvec2 project(const PinholeCamera& cam, const glm::dvec3& p, double aspect) {
+    const glm::dvec3 f = glm::normalize(cam.lookAtM - cam.eyeM);
+    const glm::dvec3 r = glm::normalize(glm::cross(f, cam.up));
+    const glm::dvec3 u = glm::cross(r, f);
+    const glm::dvec3 q = p - cam.eyeM;
+    const double depth = glm::dot(q, f);
+    const double tanV = std::tan(cam.fovYDeg * M_PI / 360.0);
+    const double sx = glm::dot(q, r) / depth / (tanV * aspect), sy = glm::dot(q, u) / depth / tanV;
+    return {0.5 * (sx + 1.0), 0.5 * (1.0 - sy)};
+}
+
+}  // namespace
+
+TEST_CASE("Sun direction follows the compass and the elevation", "[tracer]") {
+    Sun east{90.0, 0.0};
+    CHECK(east.direction().x == Approx(1.0));
+    CHECK(east.direction().y == Approx(0.0).margin(1e-12));
+    Sun nw{315.0, 35.0};
+    const auto d = nw.direction();
+    CHECK(d.x < 0.0);
+    CHECK(d.y > 0.0);
+    CHECK(d.z == Approx(std::sin(35.0 * M_PI / 180.0)));
+    CHECK(glm::length(d) == Approx(1.0));
+}
+
+TEST_CASE("The automatic camera frames the whole grid from the south-west", "[tracer]") {
+    const std::vector<float> z{0, 100, 50, 900, 10, 20, 30, 40, 500};
+    HeightGrid g(3, 3, 1000, 700, z);
+    const double aspect = 16.0 / 9.0;
+    const PinholeCamera cam = autoCamera(g, aspect);
+    CHECK(cam.eyeM.x < 0.0);
+    CHECK(cam.eyeM.y < 0.0);
+    CHECK(cam.eyeM.z > g.maxHeightM());
+    for (int k = 0; k < 8; ++k) {
+        const glm::dvec3 corner{k & 1 ? g.extentXM() : 0.0, k & 2 ? g.extentYM() : 0.0,
+                                k & 4 ? g.maxHeightM() : g.minHeightM()};
+        const glm::dvec2 f = project(cam, corner, aspect);
+        CHECK(f.x >= 0.0);
+        CHECK(f.x <= 1.0);
+        CHECK(f.y >= 0.0);
+        CHECK(f.y <= 1.0);
+    }
+}
+
+TEST_CASE("Flat terrain is lit by Lambert's cosine law plus ambient", "[tracer]") {
+    const HeightGrid g = flatGrid(9, 10.0, 100.0f);
+    TerrainRenderSettings s;
+    s.width = 8;
+    s.height = 8;
+    s.threads = 1;
+    s.camera.eyeM = {40, 40, 1000};
+    s.camera.lookAtM = {40, 40, 100};
+    s.camera.up = {0, 1, 0};
+    s.camera.fovYDeg = 2.0;
+    RenderStats low, high;
+    s.sun = Sun{200.0, 20.0};
+    const Film a = renderTerrain(g, s, &low);
+    s.sun = Sun{200.0, 60.0};
+    const Film b = renderTerrain(g, s, &high);
+    CHECK(low.primaryRays == 64);
+    CHECK(low.hits == 64);
+    CHECK(low.shadowRays == 64);
+    // Colour = albedo * (cos(zenith angle) * sun + ambient * sky): the difference between two sun heights
+    // is albedo * sun * (sin 60 - sin 20) for every pixel, in every channel.
+    const glm::vec3 albedo = elevationAlbedo(100.0, 100.0, 100.0);
+    const glm::vec3 sunColour{1.0f, 0.96f, 0.90f};
+    const float dSin = float(std::sin(60.0 * M_PI / 180.0) - std::sin(20.0 * M_PI / 180.0));
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x)
+            for (int c = 0; c < 3; ++c)
+                CHECK(b.get(x, y)[c] - a.get(x, y)[c] == Approx(albedo[c] * sunColour[c] * dSin).epsilon(1e-4));
+}
+
+TEST_CASE("A ridge casts a shadow where the sun is below its horizon", "[tracer]") {
+    // A wall 100 m high along x = 50 m on otherwise flat ground (10 m cells). With the sun in the west
+    // at 45 degrees, ground east of the wall is shadowed out to 100 m beyond it.
+    const int64_t n = 31;
+    std::vector<float> z(size_t(n * n), 0.0f);
+    for (int64_t j = 0; j < n; ++j) z[size_t(j * n + 5)] = 100.0f;
+    HeightGrid g(n, n, 10.0, 10.0, z);
+    TerrainRenderSettings s;
+    s.threads = 1;
+    s.sun = Sun{270.0, 45.0};
+    auto litAt = [&](double xM) {
+        const Ray probe{{xM, 150.0, 1.0}, s.sun.direction()};
+        return !occluded(g, probe, {0.0, kInfinity}, CellMethod::Bilinear);
+    };
+    CHECK_FALSE(litAt(70.0));
+    CHECK_FALSE(litAt(140.0));
+    CHECK(litAt(170.0));
+    CHECK(litAt(30.0));
+}
+
+TEST_CASE("Golden image: St Helens at 160x90 matches the committed reference", "[tracer][golden]") {
+    const std::string dem = std::string(TERRACAST_SOURCE_DIR) + "/data-samples/usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif";
+    const std::string golden = std::string(TERRACAST_SOURCE_DIR) + "/tests/golden/st-helens-160x90.png";
+    const LoadedDem loaded = loadDem(dem);
+    TerrainRenderSettings s;
+    s.width = 160;
+    s.height = 90;
+    s.threads = 2;
+    s.camera = autoCamera(loaded.grid, 160.0 / 90.0);
+    const Film film = renderTerrain(loaded.grid, s);
+    RgbImage image{film.width, film.height, film.rgb};
+    if (std::getenv("TERRACAST_UPDATE_GOLDEN")) writeImage(golden, image);
+    // Compare in 8-bit sRGB terms, as stored: mean absolute difference under 0.5 levels and at most 0.5 %
+    // of samples off by more than 8 levels (a changed pixel here and there from compiler rounding is fine;
+    // a changed picture is not).
+    const std::string tmp = (std::filesystem::temp_directory_path() / "terracast-golden-now.png").string();
+    writeImage(tmp, image);
+    const RgbImage now = readImage(tmp), ref = readImage(golden);
+    std::filesystem::remove(tmp);
+    REQUIRE(now.width == ref.width);
+    REQUIRE(now.height == ref.height);
+    auto toLevel = [](float linear) {
+        const float c = std::clamp(linear, 0.0f, 1.0f);
+        const float s = c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+        return 255.0f * s;
+    };
+    double sum = 0.0;
+    size_t off = 0;
+    for (size_t k = 0; k < now.rgb.size(); ++k) {
+        const double d = std::abs(toLevel(now.rgb[k]) - toLevel(ref.rgb[k]));
+        sum += d;
+        off += d > 8.0;
+    }
+    const double mean = sum / double(now.rgb.size());
+    INFO("mean difference " << mean << " levels, " << off << " samples off by more than 8 levels");
+    CHECK(mean < 0.5);
+    CHECK(double(off) <= 0.005 * double(now.rgb.size()));
+}

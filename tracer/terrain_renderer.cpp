@@ -1,0 +1,111 @@
+#include "tracer/terrain_renderer.h"
+
+#include "tracer/parallel.h"
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+
+namespace terracast {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+glm::vec3 mix(const glm::vec3& a, const glm::vec3& b, float w) { return a + (b - a) * w; }
+}  // namespace
+
+glm::dvec3 Sun::direction() const {
+    const double az = azimuthDeg * kPi / 180.0, el = elevationDeg * kPi / 180.0;
+    return {std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el)};
+}
+
+glm::vec3 gradientSky(const glm::dvec3& dir) {
+    const glm::vec3 horizon{0.75f, 0.83f, 0.92f};
+    const glm::vec3 zenith{0.23f, 0.42f, 0.75f};
+    const glm::vec3 haze{0.62f, 0.68f, 0.76f};
+    const double z = dir.z / std::max(1e-30, glm::length(dir));
+    if (z < 0.0) return mix(horizon, haze, float(std::min(1.0, -z * 3.0)));
+    return mix(horizon, zenith, float(std::pow(z, 0.6)));
+}
+
+glm::vec3 elevationAlbedo(double heightM, double minHeightM, double maxHeightM) {
+    struct Stop {
+        float at;
+        glm::vec3 colour;
+    };
+    static constexpr Stop ramp[] = {
+        {0.00f, {0.20f, 0.36f, 0.16f}},  // lowland green
+        {0.35f, {0.42f, 0.45f, 0.22f}},  // upland olive
+        {0.65f, {0.45f, 0.35f, 0.25f}},  // brown
+        {0.85f, {0.50f, 0.48f, 0.46f}},  // rock
+        {1.00f, {0.90f, 0.90f, 0.92f}},  // snow
+    };
+    const double span = maxHeightM - minHeightM;
+    const float w = span > 0.0 ? float(std::clamp((heightM - minHeightM) / span, 0.0, 1.0)) : 0.3f;
+    for (size_t k = 1; k < std::size(ramp); ++k)
+        if (w <= ramp[k].at)
+            return mix(ramp[k - 1].colour, ramp[k].colour, (w - ramp[k - 1].at) / (ramp[k].at - ramp[k - 1].at));
+    return ramp[std::size(ramp) - 1].colour;
+}
+
+Film renderTerrain(const HeightGrid& grid, const TerrainRenderSettings& s, RenderStats* stats) {
+    const auto start = std::chrono::steady_clock::now();
+    Film film(s.width, s.height);
+    const double aspect = double(s.width) / double(s.height);
+    const glm::dvec3 toSun = s.sun.direction();
+    const glm::vec3 sunColour{1.0f, 0.96f, 0.90f};
+    const glm::vec3 skyAmbient{0.80f, 0.88f, 1.0f};
+    const bool sunUp = toSun.z > 0.0;
+
+    std::atomic<int64_t> primary{0}, shadow{0}, hits{0}, pixelsDone{0};
+    std::mutex progressMutex;
+    const int64_t totalPixels = int64_t(s.width) * s.height;
+
+    parallelForTiles(s.width, s.height, s.tileSize, s.threads, [&](int x0, int y0, int x1, int y1) {
+        int64_t nPrimary = 0, nShadow = 0, nHits = 0;
+        for (int y = y0; y < y1; ++y) {
+            for (int x = x0; x < x1; ++x) {
+                const Ray ray = s.camera.generate((x + 0.5) / s.width, (y + 0.5) / s.height, aspect);
+                ++nPrimary;
+                const auto hit = intersect(grid, ray, {0.0, kInfinity}, s.method);
+                if (!hit) {
+                    film.set(x, y, gradientSky(ray.dir));
+                    continue;
+                }
+                ++nHits;
+                // Shade the side of the surface the ray arrived on.
+                glm::dvec3 n = hit->normal;
+                if (glm::dot(n, ray.dir) > 0.0) n = -n;
+                const glm::vec3 albedo = elevationAlbedo(hit->pointM.z, grid.minHeightM(), grid.maxHeightM());
+                float direct = 0.0f;
+                const double cosSun = glm::dot(n, toSun);
+                if (sunUp && cosSun > 0.0) {
+                    ++nShadow;
+                    const Ray shadowRay{spawnOrigin(*hit, toSun), toSun};
+                    if (!occluded(grid, shadowRay, {0.0, kInfinity}, s.method)) direct = float(cosSun) * s.sun.intensity;
+                }
+                const float skyLight = s.ambient * float(0.5 + 0.5 * n.z);
+                film.set(x, y, albedo * (direct * sunColour + skyLight * skyAmbient));
+            }
+        }
+        primary += nPrimary;
+        shadow += nShadow;
+        hits += nHits;
+        const int64_t done = pixelsDone += int64_t(x1 - x0) * (y1 - y0);
+        if (s.progress) {
+            std::lock_guard lock(progressMutex);
+            s.progress(double(done) / double(totalPixels), primary.load() + shadow.load());
+        }
+    });
+
+    if (stats) {
+        stats->primaryRays = primary;
+        stats->shadowRays = shadow;
+        stats->hits = hits;
+        stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    return film;
+}
+
+}  // namespace terracast
