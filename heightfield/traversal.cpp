@@ -60,7 +60,8 @@ Real surfaceAboveRay(const HeightGrid& g, const CellCorners<Real>& h, int64_t i,
             return h.h11 - (h.h11 - h.h01) * (Real(1) - u) - (h.h11 - h.h10) * (Real(1) - v) - z;
         return h.h00 + (h.h10 - h.h00) * u + (h.h01 - h.h00) * v - z;
     }
-    return bilinearHeight(h, u, v) - z;
+    // Nested interpolation: exact at the corners and equal to the edge formula on the edges.
+    return lerp(lerp(h.h00, h.h10, u), lerp(h.h01, h.h11, u), v) - z;
 }
 
 // True when the bilinear G(s) = A s^2 + B s + C of a segment comes within `tolM` of zero without a clean

@@ -31,7 +31,7 @@ inline long double bilinearHeightAt(const HeightGrid& g, long double xM, long do
 // Result of a brute-force root search of G(t) = h(x(t), y(t)) - z(t) along a ray.
 struct BruteForceResult {
     std::optional<long double> t;  // first crossing
-    long double minAbsGNoCross;    // smallest |G| seen at samples before the crossing (grazing measure)
+    long double minAbsGNoCross;    // smallest |G| at samples before the one preceding the crossing (grazing measure)
 };
 
 // Dense sampling of G over [t0, t1] (`samples` steps) and bisection of the first sign change, in long double.
@@ -67,7 +67,9 @@ inline BruteForceResult bruteForceHit(const HeightGrid& g, const Ray& ray, long 
                 return r;
             }
         }
-        if (!std::isnan(gt)) r.minAbsGNoCross = std::min(r.minAbsGNoCross, std::abs(gt));
+        // The previous sample is folded in only now that no crossing follows it: a sample next to the
+        // crossing is close to zero without saying anything about grazing.
+        if (!std::isnan(gPrev)) r.minAbsGNoCross = std::min(r.minAbsGNoCross, std::abs(gPrev));
         tPrev = t;
         gPrev = gt;
     }
@@ -87,6 +89,17 @@ inline std::optional<std::pair<double, double>> footprintRange(const HeightGrid&
     };
     if (!clip(ray.origin.x, ray.dir.x, g.extentXM()) || !clip(ray.origin.y, ray.dir.y, g.extentYM()))
         return std::nullopt;
+    // Also bound by the height range (padded), so vertical rays get a finite range.
+    const double zLo = g.minHeightM() - 1.0, zHi = g.maxHeightM() + 1.0;
+    if (ray.dir.z == 0) {
+        if (ray.origin.z < zLo || ray.origin.z > zHi) return std::nullopt;
+    } else {
+        double a = (zLo - ray.origin.z) / ray.dir.z, b = (zHi - ray.origin.z) / ray.dir.z;
+        if (a > b) std::swap(a, b);
+        t0 = std::max(t0, a);
+        t1 = std::min(t1, b);
+        if (t0 > t1) return std::nullopt;
+    }
     return std::make_pair(t0, t1);
 }
 
