@@ -22,6 +22,14 @@ inline long double bilinearHeightAt(const HeightGrid& g, long double xM, long do
     auto j = static_cast<int64_t>(std::floor(gy));
     i = std::min<int64_t>(i, g.cellsX() - 1);
     j = std::min<int64_t>(j, g.cellsY() - 1);
+    // A point on a cell boundary belongs to every cell that shares it: take a valid one if there is one.
+    if (!g.cellValid(i, j) && gx == std::floor(gx) && i > 0 && g.cellValid(i - 1, j)) --i;
+    else if (!g.cellValid(i, j) && gy == std::floor(gy) && j > 0 && g.cellValid(i, j - 1)) --j;
+    else if (!g.cellValid(i, j) && gx == std::floor(gx) && gy == std::floor(gy) && i > 0 && j > 0 &&
+             g.cellValid(i - 1, j - 1)) {
+        --i;
+        --j;
+    }
     if (!g.cellValid(i, j)) return NAN;
     const long double u = gx - i, v = gy - j;
     const long double h00 = g.at(i, j), h10 = g.at(i + 1, j), h01 = g.at(i, j + 1), h11 = g.at(i + 1, j + 1);
