@@ -3,6 +3,7 @@
 #include "loaders/dem_loader.h"
 #include "loaders/errors.h"
 #include "loaders/image_io.h"
+#include "tracer/accuracy.h"
 #include "tracer/terrain_renderer.h"
 
 #include <fmt/core.h>
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 namespace terracast {
@@ -104,6 +106,54 @@ void checkOutputPath(const std::string& output, const std::string& input) {
     const fs::path dir = fs::path(output).parent_path();
     if (!dir.empty() && !fs::is_directory(dir, ec))
         throw InputError(fmt::format("{}: output folder '{}' does not exist", output, dir.string()));
+}
+
+// Writes a text file through a temporary file in the same folder and a rename.
+void writeTextAtomically(const std::string& path, const std::string& text) {
+    namespace fs = std::filesystem;
+    const fs::path target(path);
+    const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec))
+        throw InputError(fmt::format("{}: output folder '{}' does not exist", path, dir.string()));
+    const fs::path tmp = dir / fmt::format(".{}.tmp{}", target.filename().string(), getpid());
+    {
+        std::ofstream out(tmp, std::ios::binary);
+        out << text;
+        out.flush();
+        if (!out) {
+            fs::remove(tmp, ec);
+            throw InputError(fmt::format("{}: cannot write in '{}'", path, dir.string()));
+        }
+    }
+    fs::rename(tmp, target, ec);
+    if (ec) {
+        fs::remove(tmp, ec);
+        throw InputError(fmt::format("{}: cannot write ({})", path, ec.message()));
+    }
+}
+
+std::string jsonNumber(double v) {
+    if (!std::isfinite(v)) return "null";
+    return fmt::format("{:.6g}", v);
+}
+
+std::string jsonString(const std::string& s) {
+    std::string out = "\"";
+    for (char c : s) {
+        if (c == '"' || c == '\\') out += '\\';
+        if (static_cast<unsigned char>(c) < 0x20) {
+            out += fmt::format("\\u{:04x}", int(c));
+            continue;
+        }
+        out += c;
+    }
+    return out + "\"";
+}
+
+std::string errorJson(const ErrorSummary& e) {
+    return fmt::format("{{\"mean\": {}, \"p99\": {}, \"max\": {}}}", jsonNumber(e.mean), jsonNumber(e.p99),
+                       jsonNumber(e.max));
 }
 
 }  // namespace
@@ -206,6 +256,60 @@ int runRender(const RenderOptions& o) {
                        o.output, o.width, o.height, cellMethodName(o.method), stats.seconds, stats.primaryRays,
                        stats.shadowRays, stats.seconds > 0 ? double(rays) / stats.seconds * 1e-6 : 0.0,
                        humanBytes(peakResidentBytes()));
+        }
+        return 0;
+    });
+}
+
+int runAccuracy(const AccuracyCommandOptions& o) {
+    return guarded([&] {
+        if (o.rays < 3 || o.rays > 100000000)
+            throw InputError(fmt::format("--rays: expected 3 .. 100000000, found {}", o.rays));
+        if (!o.json.empty()) {
+            const auto dir = std::filesystem::path(o.json).parent_path();
+            std::error_code ec;
+            if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
+                throw InputError(fmt::format("{}: output folder '{}' does not exist", o.json, dir.string()));
+        }
+        const LoadedDem dem = load(o.dem);
+        AccuracyOptions options;
+        options.rays = o.rays;
+        options.seed = o.seed;
+        const AccuracyReport r = measureAccuracy(dem.grid, options);
+
+        fmt::print("{}: {} x {} vertices, {} rays ({} camera, {} grazing, {} shadow), seed {}\n", dem.path,
+                   dem.grid.width(), dem.grid.height(), r.rays, r.cameraRays, r.grazingRays, r.shadowRays, o.seed);
+        fmt::print("reference: bilinear patch in long double; {} hits; {} rays ({:.3f}%) flagged ambiguous "
+                   "(grazing within {:.2g} m)\n",
+                   r.referenceHits, r.ambiguousRays, 100.0 * double(r.ambiguousRays) / double(r.rays),
+                   r.grazingToleranceM);
+        fmt::print("{:<16} {:>10} {:>11} {:>9} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}\n", "method", "Mrays/s",
+                   "agreement", "unamb.dis", "t mean m", "t p99 m", "t max m", "rel mean", "rel p99", "rel max");
+        for (const auto& m : r.methods) {
+            fmt::print("{:<16} {:>10.3f} {:>11.6f} {:>9} {:>10.3g} {:>10.3g} {:>10.3g} {:>10.3g} {:>10.3g} {:>10.3g}\n",
+                       cellMethodName(m.method), m.raysPerSecond * 1e-6, double(m.agreements) / double(r.rays),
+                       m.unambiguousDisagreements, m.tErrorM.mean, m.tErrorM.p99, m.tErrorM.max, m.tErrorRel.mean,
+                       m.tErrorRel.p99, m.tErrorRel.max);
+        }
+        if (!o.json.empty()) {
+            std::string j = fmt::format(
+                "{{\"dem\": {}, \"width\": {}, \"height\": {}, \"rays\": {}, \"seed\": {}, "
+                "\"camera_rays\": {}, \"grazing_rays\": {}, \"shadow_rays\": {}, \"reference\": \"reference\", "
+                "\"reference_hits\": {}, \"ambiguous_rays\": {}, \"grazing_tolerance_m\": {},\n \"methods\": [",
+                jsonString(dem.path), dem.grid.width(), dem.grid.height(), r.rays, o.seed, r.cameraRays, r.grazingRays,
+                r.shadowRays, r.referenceHits, r.ambiguousRays, jsonNumber(r.grazingToleranceM));
+            for (size_t k = 0; k < r.methods.size(); ++k) {
+                const auto& m = r.methods[k];
+                j += fmt::format(
+                    "{}\n  {{\"name\": \"{}\", \"rays_per_s\": {}, \"hit_agreement\": {}, "
+                    "\"disagreements\": {}, \"unambiguous_disagreements\": {}, \"compared_hits\": {}, "
+                    "\"t_error_m\": {}, \"t_error_rel\": {}}}",
+                    k ? "," : "", cellMethodName(m.method), jsonNumber(m.raysPerSecond),
+                    jsonNumber(double(m.agreements) / double(r.rays)), m.disagreements, m.unambiguousDisagreements,
+                    m.comparedHits, errorJson(m.tErrorM), errorJson(m.tErrorRel));
+            }
+            j += "\n ]}\n";
+            writeTextAtomically(o.json, j);
         }
         return 0;
     });

@@ -5,6 +5,7 @@
 
 #include "heightfield/traversal.h"
 
+#include <cstdint>
 #include <string>
 
 namespace terracast {
@@ -37,6 +38,15 @@ struct RenderOptions {
     bool quiet = false;                        // no progress or summary on stderr
 };
 int runRender(const RenderOptions& options);
+
+// `terracast accuracy DEM`
+struct AccuracyCommandOptions {
+    DemOptions dem;
+    int64_t rays = 100000;             // seeded rays: camera-like, grazing and shadow-like in equal parts
+    uint64_t seed = 1;                 // random seed
+    std::string json;                  // write the report as JSON here; empty = none
+};
+int runAccuracy(const AccuracyCommandOptions& options);
 
 // Parses "WxH" into positive width and height; returns false on malformed input.
 bool parseSize(const std::string& text, int& width, int& height);

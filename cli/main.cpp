@@ -50,6 +50,15 @@ int main(int argc, char** argv) {
         ->check(CLI::NonNegativeNumber);
     renderCmd->add_flag("-q,--quiet", render.quiet, "No progress or summary on stderr");
 
+    AccuracyCommandOptions accuracy;
+    auto* accuracyCmd = app.add_subcommand(
+        "accuracy", "Measure every cell method against the long-double reference on seeded random rays");
+    addDemOptions(*accuracyCmd, accuracy.dem);
+    accuracyCmd->add_option("--rays", accuracy.rays,
+                            "Rays: camera-like, grazing and shadow-like in equal parts (default 100000)");
+    accuracyCmd->add_option("--seed", accuracy.seed, "Random seed (default 1)");
+    accuracyCmd->add_option("--json", accuracy.json, "Also write the report as JSON to this file");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -64,6 +73,7 @@ int main(int argc, char** argv) {
     }
 
     if (*infoCmd) return runInfo(info);
+    if (*accuracyCmd) return runAccuracy(accuracy);
     if (*renderCmd) {
         if (!parseSize(size, render.width, render.height)) {
             fmt::print(stderr, "terracast: error: --size: expected WxH with positive integers, found '{}'\n", size);

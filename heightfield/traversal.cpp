@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace terracast {
 
@@ -25,43 +26,54 @@ constexpr std::array<MethodName, 5> kMethodNames{{
 
 enum class Shape { Bilinear, Triangles, Nearest };
 
+// The arithmetic that surface heights are evaluated in before rounding to Real: at least double.
 template <class Real>
-CellCorners<Real> corners(const HeightGrid& g, int64_t i, int64_t j) {
-    return {Real(g.at(i, j)), Real(g.at(i + 1, j)), Real(g.at(i, j + 1)), Real(g.at(i + 1, j + 1))};
+using Wide = std::conditional_t<(sizeof(Real) > sizeof(double)), Real, double>;
+
+// The corners of cell (i, j) relative to `baseM`. Cell math runs on heights relative to the cell's own
+// h00, so float rounding scales with the cell's relief, not with its altitude (8000 m peaks keep
+// millimetres). The differences are taken in Wide arithmetic, where they are exact, then rounded once.
+template <class Real>
+CellCorners<Real> corners(const HeightGrid& g, int64_t i, int64_t j, Wide<Real> baseM) {
+    using W = Wide<Real>;
+    return {Real(W(g.at(i, j)) - baseM), Real(W(g.at(i + 1, j)) - baseM), Real(W(g.at(i, j + 1)) - baseM),
+            Real(W(g.at(i + 1, j + 1)) - baseM)};
 }
 
-// Surface height minus ray height at a point on the boundary `side` of cell (i, j), or inside the cell.
-// On an edge only that edge's two vertices are used, in a fixed order, so that both cells sharing the edge
-// compute the same bits (see cell_intersectors.h on watertightness).
+// Surface height minus ray height at a point on the boundary `side` of cell (i, j), or inside the cell,
+// evaluated in Wide arithmetic and rounded once to Real. On an edge only that edge's two vertices are used,
+// in a fixed order and independently of the cell's base height, so both cells sharing the edge compute the
+// same bits (see cell_intersectors.h on watertightness).
 template <class Real, Shape shape>
-Real surfaceAboveRay(const HeightGrid& g, const CellCorners<Real>& h, int64_t i, int64_t j, CellSide side,
-                     const glm::dvec3& pGrid) {
-    auto lerp = [](Real a, Real b, Real w) { return (Real(1) - w) * a + w * b; };
-    auto frac = [](double x) { return std::clamp(Real(x), Real(0), Real(1)); };
-    const Real z = Real(pGrid.z);
+Real surfaceAboveRay(const HeightGrid& g, int64_t i, int64_t j, CellSide side, const glm::dvec3& pGrid) {
+    using W = Wide<Real>;
+    auto lerp = [](W a, W b, W w) { return (W(1) - w) * a + w * b; };
+    auto frac = [](double x) { return std::clamp(W(x), W(0), W(1)); };
+    auto h = [&](int64_t x, int64_t y) { return W(g.at(x, y)); };
+    const W z = W(pGrid.z);
     switch (side) {
     case CellSide::XLow:
     case CellSide::XHigh: {
         const int64_t x = side == CellSide::XLow ? i : i + 1;
-        return lerp(Real(g.at(x, j)), Real(g.at(x, j + 1)), frac(pGrid.y - double(j))) - z;
+        return Real(lerp(h(x, j), h(x, j + 1), frac(pGrid.y - double(j))) - z);
     }
     case CellSide::YLow:
     case CellSide::YHigh: {
         const int64_t y = side == CellSide::YLow ? j : j + 1;
-        return lerp(Real(g.at(i, y)), Real(g.at(i + 1, y)), frac(pGrid.x - double(i))) - z;
+        return Real(lerp(h(i, y), h(i + 1, y), frac(pGrid.x - double(i))) - z);
     }
     case CellSide::Interior:
         break;
     }
-    const Real u = frac(pGrid.x - double(i));
-    const Real v = frac(pGrid.y - double(j));
+    const W u = frac(pGrid.x - double(i));
+    const W v = frac(pGrid.y - double(j));
+    const W h00 = h(i, j), h10 = h(i + 1, j), h01 = h(i, j + 1), h11 = h(i + 1, j + 1);
     if constexpr (shape == Shape::Triangles) {
-        if (inUpperTriangle(u, v))
-            return h.h11 - (h.h11 - h.h01) * (Real(1) - u) - (h.h11 - h.h10) * (Real(1) - v) - z;
-        return h.h00 + (h.h10 - h.h00) * u + (h.h01 - h.h00) * v - z;
+        if (inUpperTriangle(u, v)) return Real(h11 - (h11 - h01) * (W(1) - u) - (h11 - h10) * (W(1) - v) - z);
+        return Real(h00 + (h10 - h00) * u + (h01 - h00) * v - z);
     }
     // Nested interpolation: exact at the corners and equal to the edge formula on the edges.
-    return lerp(lerp(h.h00, h.h10, u), lerp(h.h01, h.h11, u), v) - z;
+    return Real(lerp(lerp(h00, h10, u), lerp(h01, h11, u), v) - z);
 }
 
 // True when the bilinear G(s) = A s^2 + B s + C of a segment comes within `tolM` of zero without a clean
@@ -115,31 +127,47 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
     if (counters) margin = std::max(margin, tolerance);
 
     std::optional<HeightFieldHit> result;
+    // G at the exit of the last cell tested, while every cell walked since has had (almost) zero length. An exact
+    // corner crossing visits a zero-length cell between two diagonal neighbours; when that cell is a hole,
+    // this carries the chain of shared G values across the corner.
+    std::optional<Real> cornerG;
     walkCells(g.cellsX(), g.cellsY(), {og.x, og.y}, {dg.x, dg.y}, t0, t1, [&](const CellVisit& c) {
         if (counters) ++counters->cellsVisited;
-        if (!g.cellValid(c.i, c.j)) return false;
+        if (!g.cellValid(c.i, c.j)) {
+            // A corner pass: the segment clips the hole cell by less than 1e-7 of a cell (rounding of t).
+            if ((c.tExit - c.tEnter) * (std::abs(dg.x) + std::abs(dg.y)) > 1e-7) cornerG.reset();
+            return false;
+        }
         const glm::dvec3 pEnter = og + c.tEnter * dg;
         const glm::dvec3 pExit = og + c.tExit * dg;
-        const auto h = corners<Real>(g, c.i, c.j);
+        const double h00 = g.at(c.i, c.j), h10 = g.at(c.i + 1, c.j), h01 = g.at(c.i, c.j + 1),
+                     h11 = g.at(c.i + 1, c.j + 1);
         const double zMin = std::min(pEnter.z, pExit.z), zMax = std::max(pEnter.z, pExit.z);
-        if (zMin > double(h.maxHeight()) + margin || zMax < double(h.minHeight()) - margin) return false;
+        if (zMin > std::max(std::max(h00, h10), std::max(h01, h11)) + margin ||
+            zMax < std::min(std::min(h00, h10), std::min(h01, h11)) - margin) {
+            cornerG.reset();
+            return false;
+        }
+        const auto h = corners<Real>(g, c.i, c.j, Wide<Real>(h00));
         if (counters) ++counters->cellsTested;
 
         CellSegment<Real> seg;
         seg.u0 = std::clamp(Real(pEnter.x - double(c.i)), Real(0), Real(1));
         seg.v0 = std::clamp(Real(pEnter.y - double(c.j)), Real(0), Real(1));
-        seg.z0 = Real(pEnter.z);
+        seg.z0 = Real(Wide<Real>(pEnter.z) - Wide<Real>(h00));
         seg.du = Real(dg.x);
         seg.dv = Real(dg.y);
         seg.dz = Real(dg.z);
         seg.length = Real(c.tExit - c.tEnter);
-        seg.gEntry = surfaceAboveRay<Real, shape>(g, h, c.i, c.j, c.entry, pEnter);
-        seg.gExit = surfaceAboveRay<Real, shape>(g, h, c.i, c.j, c.exit, pExit);
+        seg.gEntry = surfaceAboveRay<Real, shape>(g, c.i, c.j, c.entry, pEnter);
+        seg.gExit = surfaceAboveRay<Real, shape>(g, c.i, c.j, c.exit, pExit);
 
         std::optional<Real> s;
-        if constexpr (shape == Shape::Bilinear) s = intersectBilinearCell(h, seg);
+        if (shape != Shape::Nearest && cornerG && (*cornerG < Real(0)) != (seg.gEntry < Real(0))) s = Real(0);
+        else if constexpr (shape == Shape::Bilinear) s = intersectBilinearCell(h, seg);
         else if constexpr (shape == Shape::Triangles) s = intersectTrianglesCell(h, seg);
         else s = intersectNearestCell(h, seg);
+        cornerG = seg.gExit;
 
         if constexpr (shape == Shape::Bilinear)
             if (counters && !counters->ambiguous) counters->ambiguous = grazes(h, seg, s.has_value(), tolerance);
