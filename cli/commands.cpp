@@ -233,7 +233,6 @@ int runRender(const RenderOptions& o) {
         TerrainRenderSettings s;
         s.width = o.width;
         s.height = o.height;
-        s.method = o.method;
         s.threads = o.threads;
         s.sun.azimuthDeg = o.sunAzimuthDeg;
         s.sun.elevationDeg = o.sunElevationDeg;
@@ -245,15 +244,16 @@ int runRender(const RenderOptions& o) {
         TerminalProgress progress(!o.quiet);
         s.progress = [&](double f, int64_t rays) { progress.update(f, rays); };
 
+        const TerrainSurface surface(grid, o.method);
         RenderStats stats;
-        Film film = renderTerrain(grid, s, &stats);
+        Film film = renderTerrain(grid, surface, s, &stats);
         writeImage(o.output, RgbImage{film.width, film.height, std::move(film.rgb)});
         if (!o.quiet) {
             const int64_t rays = stats.primaryRays + stats.shadowRays;
             fmt::print(stderr,
                        "terracast: rendered {} ({}x{}, {}) in {:.2f} s: {} primary + {} shadow rays, {:.2f} Mrays/s, "
                        "peak memory {}\n",
-                       o.output, o.width, o.height, cellMethodName(o.method), stats.seconds, stats.primaryRays,
+                       o.output, o.width, o.height, surfaceMethodName(o.method), stats.seconds, stats.primaryRays,
                        stats.shadowRays, stats.seconds > 0 ? double(rays) / stats.seconds * 1e-6 : 0.0,
                        humanBytes(peakResidentBytes()));
         }

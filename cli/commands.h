@@ -4,6 +4,7 @@
 #pragma once
 
 #include "heightfield/traversal.h"
+#include "tracer/surface.h"
 
 #include <cstdint>
 #include <string>
@@ -33,7 +34,7 @@ struct RenderOptions {
     double sunElevationDeg = 35.0;             // above the horizon
     double exaggeration = 1.0;                 // vertical scale factor
     std::string camera;                        // "eye=x,y,z look=x,y,z fov=deg"; empty = automatic view
-    CellMethod method = CellMethod::Bilinear;  // cell intersector
+    SurfaceMethod method = SurfaceMethod::Bilinear;  // cell intersector, or Embree
     int threads = 0;                           // 0 = all cores
     bool quiet = false;                        // no progress or summary on stderr
 };

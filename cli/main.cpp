@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
                           "\"eye=x,y,z look=x,y,z fov=deg\" in the DEM's local metres (origin at the south-west "
                           "sample); default: from the south-west, 30 degrees down, framing the DEM");
     renderCmd->add_option("--method", method,
-                          "Cell intersector: bilinear, bilinear-double, triangles, nearest, reference (default bilinear)");
+                          "Surface method: bilinear, bilinear-double, triangles, nearest, reference, embree, embree-grid (default bilinear)");
     renderCmd->add_option("--threads", render.threads, "Worker threads, 0 = all cores (default 0)")
         ->check(CLI::NonNegativeNumber);
     renderCmd->add_flag("-q,--quiet", render.quiet, "No progress or summary on stderr");
@@ -83,12 +83,9 @@ int main(int argc, char** argv) {
             fmt::print(stderr, "terracast: error: --sun: expected AZ,EL in degrees, found '{}'\n", sun);
             return 2;
         }
-        const auto m = parseCellMethod(method);
+        const auto m = parseSurfaceMethod(method);
         if (!m) {
-            fmt::print(stderr,
-                       "terracast: error: --method: expected bilinear, bilinear-double, triangles, nearest or "
-                       "reference, found '{}'\n",
-                       method);
+            fmt::print(stderr, "terracast: error: --method: expected one of {}, found '{}'\n", surfaceMethodList(), method);
             return 2;
         }
         render.method = *m;

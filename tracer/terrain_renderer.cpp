@@ -49,14 +49,36 @@ glm::vec3 elevationAlbedo(double heightM, double minHeightM, double maxHeightM) 
     return ramp[std::size(ramp) - 1].colour;
 }
 
-Film renderTerrain(const HeightGrid& grid, const TerrainRenderSettings& s, RenderStats* stats) {
+namespace {
+const glm::vec3 kSunColour{1.0f, 0.96f, 0.90f};
+const glm::vec3 kSkyAmbient{0.80f, 0.88f, 1.0f};
+
+// The surface normal on the side the ray arrived from.
+glm::dvec3 facingNormal(const HeightFieldHit& hit, const glm::dvec3& rayDir) {
+    return glm::dot(hit.normal, rayDir) > 0.0 ? -hit.normal : hit.normal;
+}
+}  // namespace
+
+std::optional<Ray> sunShadowRay(const HeightFieldHit& hit, const glm::dvec3& rayDir, const TerrainRenderSettings& s) {
+    const glm::dvec3 toSun = s.sun.direction();
+    if (toSun.z <= 0.0 || glm::dot(facingNormal(hit, rayDir), toSun) <= 0.0) return std::nullopt;
+    return Ray{spawnOrigin(hit, toSun), toSun};
+}
+
+glm::vec3 shadeTerrainHit(const HeightGrid& grid, const HeightFieldHit& hit, const glm::dvec3& rayDir, bool sunVisible,
+                          const TerrainRenderSettings& s) {
+    const glm::dvec3 n = facingNormal(hit, rayDir);
+    const glm::vec3 albedo = elevationAlbedo(hit.pointM.z, grid.minHeightM(), grid.maxHeightM());
+    const float direct = sunVisible ? float(std::max(0.0, glm::dot(n, s.sun.direction()))) * s.sun.intensity : 0.0f;
+    const float skyLight = s.ambient * float(0.5 + 0.5 * n.z);
+    return albedo * (direct * kSunColour + skyLight * kSkyAmbient);
+}
+
+Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const TerrainRenderSettings& s,
+                   RenderStats* stats) {
     const auto start = std::chrono::steady_clock::now();
     Film film(s.width, s.height);
     const double aspect = double(s.width) / double(s.height);
-    const glm::dvec3 toSun = s.sun.direction();
-    const glm::vec3 sunColour{1.0f, 0.96f, 0.90f};
-    const glm::vec3 skyAmbient{0.80f, 0.88f, 1.0f};
-    const bool sunUp = toSun.z > 0.0;
 
     std::atomic<int64_t> primary{0}, shadow{0}, hits{0}, pixelsDone{0};
     std::mutex progressMutex;
@@ -68,25 +90,18 @@ Film renderTerrain(const HeightGrid& grid, const TerrainRenderSettings& s, Rende
             for (int x = x0; x < x1; ++x) {
                 const Ray ray = s.camera.generate((x + 0.5) / s.width, (y + 0.5) / s.height, aspect);
                 ++nPrimary;
-                const auto hit = intersect(grid, ray, {0.0, kInfinity}, s.method);
+                const auto hit = surface.intersect(ray, {0.0, kInfinity});
                 if (!hit) {
                     film.set(x, y, gradientSky(ray.dir));
                     continue;
                 }
                 ++nHits;
-                // Shade the side of the surface the ray arrived on.
-                glm::dvec3 n = hit->normal;
-                if (glm::dot(n, ray.dir) > 0.0) n = -n;
-                const glm::vec3 albedo = elevationAlbedo(hit->pointM.z, grid.minHeightM(), grid.maxHeightM());
-                float direct = 0.0f;
-                const double cosSun = glm::dot(n, toSun);
-                if (sunUp && cosSun > 0.0) {
+                bool lit = false;
+                if (const auto shadowRay = sunShadowRay(*hit, ray.dir, s)) {
                     ++nShadow;
-                    const Ray shadowRay{spawnOrigin(*hit, toSun), toSun};
-                    if (!occluded(grid, shadowRay, {0.0, kInfinity}, s.method)) direct = float(cosSun) * s.sun.intensity;
+                    lit = !surface.occluded(*shadowRay, {0.0, kInfinity});
                 }
-                const float skyLight = s.ambient * float(0.5 + 0.5 * n.z);
-                film.set(x, y, albedo * (direct * sunColour + skyLight * skyAmbient));
+                film.set(x, y, shadeTerrainHit(grid, *hit, ray.dir, lit, s));
             }
         }
         primary += nPrimary;

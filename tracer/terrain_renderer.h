@@ -6,6 +6,7 @@
 #include "heightfield/traversal.h"
 #include "tracer/camera.h"
 #include "tracer/film.h"
+#include "tracer/surface.h"
 
 #include <cstdint>
 #include <functional>
@@ -28,7 +29,6 @@ struct TerrainRenderSettings {
     int height = 720;                          // pixels
     PinholeCamera camera;                      // local metres
     Sun sun;
-    CellMethod method = CellMethod::Bilinear;  // cell intersector
     float ambient = 0.18f;                     // constant ambient light, fraction of the sun's
     int threads = 0;                           // worker threads; 0 = all cores
     int tileSize = 32;                         // pixels per side of a work tile
@@ -44,8 +44,16 @@ struct RenderStats {
     double seconds = 0.0;
 };
 
-// Renders `grid` into a linear RGB film.
-Film renderTerrain(const HeightGrid& grid, const TerrainRenderSettings& settings, RenderStats* stats = nullptr);
+// Renders `grid`, traced through `surface`, into a linear RGB film.
+Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const TerrainRenderSettings& settings,
+                   RenderStats* stats = nullptr);
+
+// The shadow ray a hit needs towards the sun, or none when the surface faces away from it (or the sun is down).
+std::optional<Ray> sunShadowRay(const HeightFieldHit& hit, const glm::dvec3& rayDir, const TerrainRenderSettings& settings);
+
+// The colour of a hit seen along `rayDir`: height-ramp albedo times sun (when `sunVisible`) plus sky ambient.
+glm::vec3 shadeTerrainHit(const HeightGrid& grid, const HeightFieldHit& hit, const glm::dvec3& rayDir, bool sunVisible,
+                          const TerrainRenderSettings& settings);
 
 // The sky seen along a unit direction: a gradient from a pale horizon to a deeper zenith.
 glm::vec3 gradientSky(const glm::dvec3& dir);

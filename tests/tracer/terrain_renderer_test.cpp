@@ -75,9 +75,10 @@ TEST_CASE("Flat terrain is lit by Lambert's cosine law plus ambient", "[tracer]"
     s.camera.fovYDeg = 2.0;
     RenderStats low, high;
     s.sun = Sun{200.0, 20.0};
-    const Film a = renderTerrain(g, s, &low);
+    const TerrainSurface surface(g, SurfaceMethod::Bilinear);
+    const Film a = renderTerrain(g, surface, s, &low);
     s.sun = Sun{200.0, 60.0};
-    const Film b = renderTerrain(g, s, &high);
+    const Film b = renderTerrain(g, surface, s, &high);
     CHECK(low.primaryRays == 64);
     CHECK(low.hits == 64);
     CHECK(low.shadowRays == 64);
@@ -121,7 +122,7 @@ TEST_CASE("Golden image: St Helens at 160x90 matches the committed reference", "
     s.height = 90;
     s.threads = 2;
     s.camera = autoCamera(loaded.grid, 160.0 / 90.0);
-    const Film film = renderTerrain(loaded.grid, s);
+    const Film film = renderTerrain(loaded.grid, TerrainSurface(loaded.grid, SurfaceMethod::Bilinear), s);
     RgbImage image{film.width, film.height, film.rgb};
     if (std::getenv("TERRACAST_UPDATE_GOLDEN")) writeImage(golden, image);
     // Compare in 8-bit sRGB terms, as stored: mean absolute difference under 0.5 levels and at most 0.5 %

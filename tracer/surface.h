@@ -1,0 +1,56 @@
+// A traceable terrain surface: the direct tracer with one cell method, or the Embree tessellation.
+#pragma once
+
+#include "heightfield/height_grid.h"
+#include "heightfield/traversal.h"
+#include "tracer/embree_terrain.h"
+
+#include <memory>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+namespace terracast {
+
+// Every way to trace the terrain, direct or triangulated.
+enum class SurfaceMethod {
+    Bilinear,        // direct: exact patch in float
+    BilinearDouble,  // direct: exact patch in double
+    Triangles,       // direct: two triangles per cell
+    Nearest,         // direct: flat squares
+    Reference,       // direct: exact patch in long double
+    Embree,          // Embree triangle mesh
+    EmbreeGrid,      // Embree grid geometry
+};
+
+// Parses a method name ("bilinear", ..., "embree", "embree-grid").
+std::optional<SurfaceMethod> parseSurfaceMethod(std::string_view name);
+const char* surfaceMethodName(SurfaceMethod method);
+// The names parseSurfaceMethod accepts, comma-separated, for messages.
+const char* surfaceMethodList();
+// The methods `compare` runs, in report order.
+const std::vector<SurfaceMethod>& compareMethods();
+
+// A surface that answers nearest-hit and occlusion queries in the grid's local frame.
+class TerrainSurface {
+public:
+    TerrainSurface(const HeightGrid& grid, SurfaceMethod method);
+
+    std::optional<HeightFieldHit> intersect(const Ray& ray, Interval interval) const;
+    bool occluded(const Ray& ray, Interval interval) const;
+
+    SurfaceMethod method() const { return method_; }
+    // Seconds spent building acceleration data (0 for the direct tracer, which needs none).
+    double buildSeconds() const { return embree_ ? embree_->buildSeconds() : 0.0; }
+    // Bytes of the surface's own data: the grid for the direct tracer; Embree's own count for Embree
+    // (it copies the vertices).
+    int64_t memoryBytes() const;
+
+private:
+    const HeightGrid& grid_;
+    SurfaceMethod method_;
+    CellMethod cell_ = CellMethod::Bilinear;
+    std::unique_ptr<EmbreeTerrain> embree_;
+};
+
+}  // namespace terracast
