@@ -4,6 +4,7 @@
 #include "loaders/errors.h"
 #include "loaders/image_io.h"
 #include "tracer/accuracy.h"
+#include "tracer/compare.h"
 #include "tracer/terrain_renderer.h"
 
 #include <fmt/core.h>
@@ -310,6 +311,91 @@ int runAccuracy(const AccuracyCommandOptions& o) {
             }
             j += "\n ]}\n";
             writeTextAtomically(o.json, j);
+        }
+        return 0;
+    });
+}
+
+int runCompare(const CompareCommandOptions& o) {
+    return guarded([&] {
+        namespace fs = std::filesystem;
+        std::error_code ec;
+        if (!o.outDir.empty() && !fs::is_directory(o.outDir, ec) && !fs::create_directories(o.outDir, ec))
+            throw InputError(fmt::format("--out-dir: cannot create folder '{}' ({})", o.outDir, ec.message()));
+        if (!o.json.empty()) {
+            const auto dir = fs::path(o.json).parent_path();
+            if (!dir.empty() && !fs::is_directory(dir, ec))
+                throw InputError(fmt::format("{}: output folder '{}' does not exist", o.json, dir.string()));
+        }
+        if (!(o.exaggeration > 0.0) || !std::isfinite(o.exaggeration))
+            throw InputError(fmt::format("--exaggeration: expected a positive number, found {}", o.exaggeration));
+        LoadedDem dem = load(o.dem);
+        if (o.exaggeration != 1.0) dem.grid.scaleHeights(float(o.exaggeration));
+
+        CompareSettings cs;
+        cs.methods = o.methods;
+        TerrainRenderSettings& s = cs.render;
+        s.width = o.width;
+        s.height = o.height;
+        s.threads = o.threads;
+        s.sun.azimuthDeg = o.sunAzimuthDeg;
+        s.sun.elevationDeg = o.sunElevationDeg;
+        s.camera = autoCamera(dem.grid, double(o.width) / double(o.height));
+        if (!o.camera.empty())
+            if (auto err = parseCamera(o.camera, s.camera)) throw InputError("--camera: " + *err);
+
+        const auto start = std::chrono::steady_clock::now();
+        const CompareReport r = compareSurfaces(dem.grid, cs);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+        fmt::print("{}: {} x {} vertices; {} x {} camera rays plus one shadow ray per lit-facing hit; reference {}\n",
+                   dem.path, dem.grid.width(), dem.grid.height(), r.width, r.height, surfaceMethodName(r.reference));
+        fmt::print("{:<16} {:>8} {:>11} {:>9} {:>9} {:>10} {:>10} {:>10} {:>10} {:>9} {:>8} {:>7} {:>7}\n", "method",
+                   "build s", "memory", "prim M/s", "shad M/s", "agreement", "t mean m", "t p99 m", "t max m", "rmse",
+                   "psnr dB", "x prim", "x shad");
+        for (const auto& m : r.methods)
+            fmt::print("{:<16} {:>8.3f} {:>11} {:>9.3f} {:>9.3f} {:>10.6f} {:>10.3g} {:>10.3g} {:>10.3g} {:>9.5f} {:>8.1f} "
+                       "{:>7.2f} {:>7.2f}\n",
+                       surfaceMethodName(m.method), m.buildSeconds, humanBytes(double(m.memoryBytes)),
+                       m.primaryRaysPerSecond * 1e-6, m.shadowRaysPerSecond * 1e-6, m.hitAgreement, m.tErrorM.mean,
+                       m.tErrorM.p99, m.tErrorM.max, m.imageRmse, m.imagePsnrDb, m.ratioToEmbreePrimary,
+                       m.ratioToEmbreeShadow);
+        fmt::print("({:.1f} s in all; x prim / x shad: rays per second over embree's, this run)\n", seconds);
+
+        if (!o.json.empty()) {
+            std::string j = fmt::format("{{\"dem\": {}, \"width\": {}, \"height\": {}, \"image_width\": {}, "
+                                        "\"image_height\": {}, \"rays\": {}, \"reference\": \"{}\",\n \"methods\": [",
+                                        jsonString(dem.path), dem.grid.width(), dem.grid.height(), r.width, r.height,
+                                        r.rays, surfaceMethodName(r.reference));
+            for (size_t k = 0; k < r.methods.size(); ++k) {
+                const auto& m = r.methods[k];
+                j += fmt::format(
+                    "{}\n  {{\"name\": \"{}\", \"build_s\": {}, \"memory_bytes\": {}, \"primary_rays\": {}, "
+                    "\"shadow_rays\": {}, \"primary_rays_per_s\": {}, \"shadow_rays_per_s\": {}, \"hit_agreement\": {}, "
+                    "\"t_error_m\": {}, \"t_error_rel\": {}, \"image_rmse\": {}, \"image_psnr_db\": {}, "
+                    "\"ratio_to_embree\": {{\"primary\": {}, \"shadow\": {}}}}}",
+                    k ? "," : "", surfaceMethodName(m.method), jsonNumber(m.buildSeconds), m.memoryBytes, m.primaryRays,
+                    m.shadowRays, jsonNumber(m.primaryRaysPerSecond), jsonNumber(m.shadowRaysPerSecond),
+                    jsonNumber(m.hitAgreement), errorJson(m.tErrorM), errorJson(m.tErrorRel), jsonNumber(m.imageRmse),
+                    // identical images have infinite PSNR; JSON has no infinity, so it is capped at 999 dB
+                    jsonNumber(std::min(m.imagePsnrDb, 999.0)), jsonNumber(m.ratioToEmbreePrimary),
+                    jsonNumber(m.ratioToEmbreeShadow));
+            }
+            j += "\n ]}\n";
+            writeTextAtomically(o.json, j);
+        }
+        if (!o.outDir.empty()) {
+            const MethodComparison* ref = nullptr;
+            for (const auto& m : r.methods)
+                if (m.method == r.reference) ref = &m;
+            for (const auto& m : r.methods) {
+                const std::string name = surfaceMethodName(m.method);
+                writeImage((fs::path(o.outDir) / (name + ".png")).string(), RgbImage{m.image.width, m.image.height, m.image.rgb});
+                if (&m == ref) continue;
+                const Film heat = differenceHeatMap(m, *ref);
+                writeImage((fs::path(o.outDir) / ("diff-" + name + ".png")).string(), RgbImage{heat.width, heat.height, heat.rgb});
+            }
+            writeTextAtomically((fs::path(o.outDir) / "tradeoff.svg").string(), tradeoffSvg(r));
         }
         return 0;
     });

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace terracast {
 
@@ -48,6 +49,22 @@ struct AccuracyCommandOptions {
     std::string json;                  // write the report as JSON here; empty = none
 };
 int runAccuracy(const AccuracyCommandOptions& options);
+
+// `terracast compare DEM`
+struct CompareCommandOptions {
+    DemOptions dem;
+    int width = 640;                   // pixels
+    int height = 480;                  // pixels
+    double sunAzimuthDeg = 315.0;      // clockwise from north
+    double sunElevationDeg = 35.0;     // above the horizon
+    double exaggeration = 1.0;         // vertical scale factor
+    std::string camera;                // as for render; empty = automatic view
+    std::vector<SurfaceMethod> methods = compareMethods();  // measured; the reference is always added
+    int threads = 0;                   // 0 = all cores
+    std::string json;                  // report file; empty = none
+    std::string outDir;                // folder for images, heat maps and tradeoff.svg; empty = none
+};
+int runCompare(const CompareCommandOptions& options);
 
 // Parses "WxH" into positive width and height; returns false on malformed input.
 bool parseSize(const std::string& text, int& width, int& height);

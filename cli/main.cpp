@@ -59,6 +59,23 @@ int main(int argc, char** argv) {
     accuracyCmd->add_option("--seed", accuracy.seed, "Random seed (default 1)");
     accuracyCmd->add_option("--json", accuracy.json, "Also write the report as JSON to this file");
 
+    CompareCommandOptions compare;
+    std::string compareSize = "640x480", compareSun = "315,35", compareMethodsText;
+    auto* compareCmd = app.add_subcommand(
+        "compare", "Trace the same rays with every method (direct and Embree) and report speed and error side by side");
+    addDemOptions(*compareCmd, compare.dem);
+    compareCmd->add_option("--size", compareSize, "Image size WxH in pixels (default 640x480)");
+    compareCmd->add_option("--sun", compareSun, "Sun azimuth,elevation in degrees (default 315,35)");
+    compareCmd->add_option("--exaggeration", compare.exaggeration, "Vertical exaggeration factor (default 1)");
+    compareCmd->add_option("--camera", compare.camera, "As for render (default: automatic view)");
+    compareCmd->add_option("--methods", compareMethodsText,
+                           "Comma-separated methods (default bilinear,bilinear-double,triangles,nearest,embree,embree-grid)");
+    compareCmd->add_option("--threads", compare.threads, "Worker threads, 0 = all cores (default 0)")
+        ->check(CLI::NonNegativeNumber);
+    compareCmd->add_option("--json", compare.json, "Write the report as JSON to this file");
+    compareCmd->add_option("--out-dir", compare.outDir,
+                           "Write each method's image, its difference heat map and tradeoff.svg to this folder");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -74,6 +91,34 @@ int main(int argc, char** argv) {
 
     if (*infoCmd) return runInfo(info);
     if (*accuracyCmd) return runAccuracy(accuracy);
+    if (*compareCmd) {
+        if (!parseSize(compareSize, compare.width, compare.height)) {
+            fmt::print(stderr, "terracast: error: --size: expected WxH with positive integers, found '{}'\n", compareSize);
+            return 2;
+        }
+        if (!parsePair(compareSun, compare.sunAzimuthDeg, compare.sunElevationDeg)) {
+            fmt::print(stderr, "terracast: error: --sun: expected AZ,EL in degrees, found '{}'\n", compareSun);
+            return 2;
+        }
+        if (!compareMethodsText.empty()) {
+            compare.methods.clear();
+            size_t startPos = 0;
+            while (startPos <= compareMethodsText.size()) {
+                const size_t comma = compareMethodsText.find(',', startPos);
+                const std::string name = compareMethodsText.substr(startPos, comma - startPos);
+                const auto m = parseSurfaceMethod(name);
+                if (!m) {
+                    fmt::print(stderr, "terracast: error: --methods: expected names from {}, found '{}'\n",
+                               surfaceMethodList(), name);
+                    return 2;
+                }
+                compare.methods.push_back(*m);
+                if (comma == std::string::npos) break;
+                startPos = comma + 1;
+            }
+        }
+        return runCompare(compare);
+    }
     if (*renderCmd) {
         if (!parseSize(size, render.width, render.height)) {
             fmt::print(stderr, "terracast: error: --size: expected WxH with positive integers, found '{}'\n", size);

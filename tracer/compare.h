@@ -1,0 +1,60 @@
+// `compare`: the same camera rays and one shadow ray per hit, traced by every method, measured side by side
+// against the reference (the bilinear patch in double).
+#pragma once
+
+#include "heightfield/height_grid.h"
+#include "tracer/accuracy.h"
+#include "tracer/film.h"
+#include "tracer/surface.h"
+#include "tracer/terrain_renderer.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace terracast {
+
+struct CompareSettings {
+    TerrainRenderSettings render;                          // size, camera, sun, threads (method unused)
+    std::vector<SurfaceMethod> methods = compareMethods();  // measured in this order
+    SurfaceMethod reference = SurfaceMethod::BilinearDouble;  // compared against; measured too
+};
+
+struct MethodComparison {
+    SurfaceMethod method = SurfaceMethod::Bilinear;
+    double buildSeconds = 0.0;         // acceleration structure build (0 for the direct tracer)
+    int64_t memoryBytes = 0;           // ours from our allocations; Embree's from its memory monitor
+    int64_t primaryRays = 0;
+    int64_t shadowRays = 0;
+    double primaryRaysPerSecond = 0.0;
+    double shadowRaysPerSecond = 0.0;
+    double hitAgreement = 0.0;         // share of primary rays with the reference's hit/miss verdict
+    ErrorSummary tErrorM;              // |t - t_ref| in metres over pixels both hit
+    ErrorSummary tErrorRel;            // the same over t_ref
+    double imageRmse = 0.0;            // against the reference image, linear RGB clamped to [0, 1]
+    double imagePsnrDb = 0.0;          // 20 log10(1 / rmse); infinite for identical images
+    double ratioToEmbreePrimary = 0.0; // primary rays/s over Embree's, this run (0 when Embree was not run)
+    double ratioToEmbreeShadow = 0.0;
+    Film image;                        // the method's picture
+    std::vector<double> hitT;          // primary hit distance per pixel, NaN for a miss
+};
+
+struct CompareReport {
+    int width = 0;
+    int height = 0;
+    int64_t rays = 0;                  // camera rays per method
+    SurfaceMethod reference = SurfaceMethod::BilinearDouble;
+    std::vector<MethodComparison> methods;
+};
+
+// Traces and measures every method of `settings` (the reference is added when missing).
+CompareReport compareSurfaces(const HeightGrid& grid, const CompareSettings& settings);
+
+// A heat map of |t - t_ref| per pixel on a log colour scale, with a legend strip below it giving the scale
+// in metres. Pixels where one hits and the other misses are magenta; where both miss, dark grey.
+Film differenceHeatMap(const MethodComparison& method, const MethodComparison& reference);
+
+// An SVG chart of primary rays/s (x) against p99 hit-distance error (y), log axes, one labelled point each.
+std::string tradeoffSvg(const CompareReport& report);
+
+}  // namespace terracast
