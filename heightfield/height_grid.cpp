@@ -61,6 +61,42 @@ void HeightGrid::finish() {
     if (lo > hi) lo = hi = 0.0f;
     minHeightM_ = lo;
     maxHeightM_ = hi;
+    buildPyramid();
+}
+
+void HeightGrid::buildPyramid() {
+    // Level 1 straight from the vertices: block (bi, bj) covers cells 2bi..2bi+1, 2bj..2bj+1, that is
+    // vertices 2bi..2bi+2, 2bj..2bj+2. A cell's own maximum takes only its valid vertices, so a hole cell
+    // next to a valid vertex still bounds it (the traversal's corner handling relies on that).
+    pyramid_.clear();
+    constexpr float kNone = -std::numeric_limits<float>::infinity();
+    auto vertexMax = [&](int64_t i, int64_t j) {
+        if (i >= width_ || j >= height_ || !vertexValid(i, j)) return kNone;
+        return at(i, j);
+    };
+    int64_t bx = (cellsX() + 1) / 2, by = (cellsY() + 1) / 2;
+    std::vector<float> level(static_cast<size_t>(bx * by));
+    for (int64_t bj = 0; bj < by; ++bj)
+        for (int64_t bi = 0; bi < bx; ++bi) {
+            float m = kNone;
+            for (int64_t j = 2 * bj; j <= std::min(2 * bj + 2, cellsY()); ++j)
+                for (int64_t i = 2 * bi; i <= std::min(2 * bi + 2, cellsX()); ++i) m = std::max(m, vertexMax(i, j));
+            level[static_cast<size_t>(bj * bx + bi)] = m;
+        }
+    pyramid_.push_back(std::move(level));
+    while (bx > 1 || by > 1) {
+        const auto& prev = pyramid_.back();
+        const int64_t px = bx, py = by;
+        bx = (bx + 1) / 2;
+        by = (by + 1) / 2;
+        std::vector<float> next(static_cast<size_t>(bx * by), kNone);
+        for (int64_t j = 0; j < py; ++j)
+            for (int64_t i = 0; i < px; ++i) {
+                float& m = next[static_cast<size_t>((j / 2) * bx + i / 2)];
+                m = std::max(m, prev[static_cast<size_t>(j * px + i)]);
+            }
+        pyramid_.push_back(std::move(next));
+    }
 }
 
 void HeightGrid::scaleHeights(float k) {
@@ -71,7 +107,9 @@ void HeightGrid::scaleHeights(float k) {
 }
 
 size_t HeightGrid::memoryBytes() const {
-    return heightsM_.capacity() * sizeof(float) + valid_.capacity() + cellValid_.capacity();
+    size_t pyramid = 0;
+    for (const auto& level : pyramid_) pyramid += level.capacity() * sizeof(float);
+    return heightsM_.capacity() * sizeof(float) + valid_.capacity() + cellValid_.capacity() + pyramid;
 }
 
 }  // namespace terracast

@@ -58,13 +58,26 @@ public:
     // Multiplies every height by k (vertical exaggeration).
     void scaleHeights(float k);
 
-    // Bytes held by the grid's own arrays.
+    // Bytes held by the grid's own arrays (heights, masks and the max pyramid).
     size_t memoryBytes() const;
+
+    // The maximum pyramid (Tevs, Ihrke, Seidel 2008, "Maximum mipmaps for fast, accurate, and scalable
+    // dynamic height field rendering"): level k >= 1 holds, for each block of 2^k x 2^k cells, the highest
+    // valid vertex of its cells (-infinity for a block without one). Level 0 is not stored: it is the cells.
+    int pyramidLevels() const { return int(pyramid_.size()); }
+    // Blocks along x and y at level k.
+    int64_t pyramidBlocksX(int k) const { return (cellsX() + (int64_t(1) << k) - 1) >> k; }
+    int64_t pyramidBlocksY(int k) const { return (cellsY() + (int64_t(1) << k) - 1) >> k; }
+    // The highest valid height in block (bi, bj) of level k (1 <= k <= pyramidLevels()).
+    float blockMaxM(int k, int64_t bi, int64_t bj) const {
+        return pyramid_[size_t(k - 1)][size_t(bj * pyramidBlocksX(k) + bi)];
+    }
 
     const std::vector<float>& heights() const { return heightsM_; }
 
 private:
     void finish();
+    void buildPyramid();
 
     int64_t width_ = 0;
     int64_t height_ = 0;
@@ -77,6 +90,7 @@ private:
     int64_t validCells_ = 0;
     float minHeightM_ = 0.0f;
     float maxHeightM_ = 0.0f;
+    std::vector<std::vector<float>> pyramid_;  // levels 1..n, row-major blocks
 };
 
 }  // namespace terracast

@@ -99,7 +99,7 @@ Real unitRoundoff() {
 
 template <class Real, Shape shape>
 std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interval interval, bool anyHit,
-                                    TraceCounters* counters) {
+                                    TraceCounters* counters, Traversal traversal) {
     if (interval.empty()) return std::nullopt;
     const glm::dvec3 og{ray.origin.x / g.cellSizeXM(), ray.origin.y / g.cellSizeYM(), ray.origin.z};
     const glm::dvec3 dg{ray.dir.x / g.cellSizeXM(), ray.dir.y / g.cellSizeYM(), ray.dir.z};
@@ -131,8 +131,40 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
     // corner crossing visits a zero-length cell between two diagonal neighbours; when that cell is a hole,
     // this carries the chain of shared G values across the corner.
     std::optional<Real> cornerG;
-    walkCells(g.cellsX(), g.cellsY(), {og.x, og.y}, {dg.x, dg.y}, t0, t1, [&](const CellVisit& c) {
+
+    // The ray parameter where the ray leaves the largest pyramid block around cell (i, j) that it passes
+    // above (by the margin) from tFrom on, or tFrom when it passes above none. Every cell of such a block
+    // would be rejected by the per-cell test below, so skipping it changes no hit.
+    const int levels = traversal == Traversal::Pyramid ? g.pyramidLevels() : 0;
+    auto skipTo = [&](int64_t i, int64_t j, double tFrom) {
+        const double zFrom = og.z + tFrom * dg.z;
+        double best = tFrom;
+        for (int k = 1; k <= levels; ++k) {
+            const int64_t bi = i >> k, bj = j >> k;
+            const double x0 = double(bi << k), x1 = double(std::min((bi + 1) << k, g.cellsX()));
+            const double y0 = double(bj << k), y1 = double(std::min((bj + 1) << k, g.cellsY()));
+            double tOut = t1;
+            if (dg.x != 0.0) tOut = std::min(tOut, ((dg.x > 0.0 ? x1 : x0) - og.x) / dg.x);
+            if (dg.y != 0.0) tOut = std::min(tOut, ((dg.y > 0.0 ? y1 : y0) - og.y) / dg.y);
+            const double zLow = std::min(zFrom, og.z + tOut * dg.z);
+            if (!(zLow > double(g.blockMaxM(k, bi, bj)) + margin)) break;
+            best = tOut;
+        }
+        return best;
+    };
+
+    double tStart = t0, restartAt = 0.0;
+    auto visitCell = [&](const CellVisit& c) {
         if (counters) ++counters->cellsVisited;
+        if (levels > 0 && c.tExit > c.tEnter) {
+            const double tSkip = skipTo(c.i, c.j, c.tEnter);
+            if (tSkip > c.tExit) {
+                if (counters) ++counters->blocksSkipped;
+                cornerG.reset();
+                restartAt = tSkip;
+                return true;
+            }
+        }
         if (!g.cellValid(c.i, c.j)) {
             // A corner pass: the segment clips the hole cell by less than 1e-7 of a cell (rounding of t).
             if ((c.tExit - c.tEnter) * (std::abs(dg.x) + std::abs(dg.y)) > 1e-7) cornerG.reset();
@@ -219,18 +251,25 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
         result = hit;
         (void)anyHit;  // the first hit in t order is also the first found: both stop here
         return true;
-    });
+    };
+    // Walk, and after each pyramid skip walk again from where the skipped block ends.
+    for (;;) {
+        restartAt = kInfinity;
+        walkCells(g.cellsX(), g.cellsY(), {og.x, og.y}, {dg.x, dg.y}, tStart, t1, visitCell);
+        if (result || !(restartAt < t1) || !(restartAt > tStart)) break;
+        tStart = restartAt;
+    }
     return result;
 }
 
 std::optional<HeightFieldHit> dispatch(const HeightGrid& g, const Ray& ray, Interval interval, CellMethod method,
-                                       bool anyHit, TraceCounters* counters) {
+                                       bool anyHit, TraceCounters* counters, Traversal tr) {
     switch (method) {
-    case CellMethod::Bilinear: return trace<float, Shape::Bilinear>(g, ray, interval, anyHit, counters);
-    case CellMethod::BilinearDouble: return trace<double, Shape::Bilinear>(g, ray, interval, anyHit, counters);
-    case CellMethod::Triangles: return trace<float, Shape::Triangles>(g, ray, interval, anyHit, counters);
-    case CellMethod::Nearest: return trace<float, Shape::Nearest>(g, ray, interval, anyHit, counters);
-    case CellMethod::Reference: return trace<long double, Shape::Bilinear>(g, ray, interval, anyHit, counters);
+    case CellMethod::Bilinear: return trace<float, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr);
+    case CellMethod::BilinearDouble: return trace<double, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr);
+    case CellMethod::Triangles: return trace<float, Shape::Triangles>(g, ray, interval, anyHit, counters, tr);
+    case CellMethod::Nearest: return trace<float, Shape::Nearest>(g, ray, interval, anyHit, counters, tr);
+    case CellMethod::Reference: return trace<long double, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr);
     }
     return std::nullopt;
 }
@@ -256,12 +295,13 @@ const std::vector<CellMethod>& allCellMethods() {
 }
 
 std::optional<HeightFieldHit> intersect(const HeightGrid& grid, const Ray& ray, Interval interval, CellMethod method,
-                                        TraceCounters* counters) {
-    return dispatch(grid, ray, interval, method, false, counters);
+                                        TraceCounters* counters, Traversal traversal) {
+    return dispatch(grid, ray, interval, method, false, counters, traversal);
 }
 
-bool occluded(const HeightGrid& grid, const Ray& ray, Interval interval, CellMethod method, TraceCounters* counters) {
-    return dispatch(grid, ray, interval, method, true, counters).has_value();
+bool occluded(const HeightGrid& grid, const Ray& ray, Interval interval, CellMethod method, TraceCounters* counters,
+              Traversal traversal) {
+    return dispatch(grid, ray, interval, method, true, counters, traversal).has_value();
 }
 
 glm::dvec3 spawnOrigin(const HeightFieldHit& hit, const glm::dvec3& dir) {

@@ -29,6 +29,10 @@ const char* cellMethodName(CellMethod method);
 // All methods, in the order reports list them.
 const std::vector<CellMethod>& allCellMethods();
 
+// How cells are reached: through the maximum pyramid (skipping blocks the ray passes above), or one by one.
+// Both give exactly the same hits; the flat walk exists for comparison.
+enum class Traversal { Pyramid, Flat };
+
 // A ray's hit on the height field, in the grid's local frame (metres).
 struct HeightFieldHit {
     double t = 0.0;             // ray parameter
@@ -45,6 +49,7 @@ struct HeightFieldHit {
 struct TraceCounters {
     int64_t cellsVisited = 0;   // cells the DDA walked
     int64_t cellsTested = 0;    // cells that reached the cell intersector
+    int64_t blocksSkipped = 0;  // pyramid blocks passed over without visiting their cells
     bool ambiguous = false;     // the ray grazes the surface closer than the float tolerance (see below)
 };
 
@@ -53,11 +58,12 @@ struct TraceCounters {
 // surface without crossing it (a near-miss graze) or only dips below it by less than that tolerance:
 // rays whose hit/miss verdict float arithmetic cannot be expected to reproduce.
 std::optional<HeightFieldHit> intersect(const HeightGrid& grid, const Ray& ray, Interval interval,
-                                        CellMethod method, TraceCounters* counters = nullptr);
+                                        CellMethod method, TraceCounters* counters = nullptr,
+                                        Traversal traversal = Traversal::Pyramid);
 
 // True when `ray` hits the height field anywhere in `interval` (stops at the first hit found).
 bool occluded(const HeightGrid& grid, const Ray& ray, Interval interval, CellMethod method,
-              TraceCounters* counters = nullptr);
+              TraceCounters* counters = nullptr, Traversal traversal = Traversal::Pyramid);
 
 // The origin of a ray leaving a hit point in direction `dir`: the point pushed along the geometric normal,
 // to the side `dir` goes, by the hit's error bound, so that the new ray cannot re-hit the surface it starts

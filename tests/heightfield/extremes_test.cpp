@@ -333,12 +333,18 @@ TEST_CASE("Extremes: 1x1-cell, 1xN, Nx1 and 65537 x 3 grids", "[heightfield][ext
     const HeightGrid big(w, 3, 1.0, 1.0, z);
     const Ray ray{{0.0, 1.0, 400.0}, {1.0, 0.0, 0.0}};
     TraceCounters counters;
-    const auto hit = intersect(big, ray, {0, kInfinity}, CellMethod::Bilinear, &counters);
+    const auto hit = intersect(big, ray, {0, kInfinity}, CellMethod::Bilinear, &counters, Traversal::Flat);
     REQUIRE(hit);
     CHECK(hit->cellX == 65529);
     CHECK(hit->pointM.x > 65529.0);
     CHECK(hit->pointM.x < 65530.0);
     CHECK(counters.cellsVisited == 65530);
+    // Through the pyramid: the same hit, walking a handful of cells.
+    TraceCounters fast;
+    const auto same = intersect(big, ray, {0, kInfinity}, CellMethod::Bilinear, &fast);
+    REQUIRE(same);
+    CHECK(same->t == hit->t);
+    CHECK(fast.cellsVisited < 100);
     // At the last cell, index 65535: a vertical ray.
     const auto last = intersect(big, Ray{{65535.5, 0.5, 1000.0}, {0, 0, -1}}, {0, kInfinity}, CellMethod::Bilinear);
     REQUIRE(last);
