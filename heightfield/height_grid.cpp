@@ -1,5 +1,6 @@
 #include "heightfield/height_grid.h"
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -68,6 +69,7 @@ void HeightGrid::buildPyramid() {
     // Level 1 straight from the vertices: block (bi, bj) covers cells 2bi..2bi+1, 2bj..2bj+1, that is
     // vertices 2bi..2bi+2, 2bj..2bj+2. A cell's own maximum takes only its valid vertices, so a hole cell
     // next to a valid vertex still bounds it (the traversal's corner handling relies on that).
+    const auto start = std::chrono::steady_clock::now();
     pyramid_.clear();
     constexpr float kNone = -std::numeric_limits<float>::infinity();
     auto vertexMax = [&](int64_t i, int64_t j) {
@@ -97,6 +99,7 @@ void HeightGrid::buildPyramid() {
             }
         pyramid_.push_back(std::move(next));
     }
+    pyramidBuildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 void HeightGrid::scaleHeights(float k) {

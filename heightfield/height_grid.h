@@ -65,6 +65,8 @@ public:
     // dynamic height field rendering"): level k >= 1 holds, for each block of 2^k x 2^k cells, the highest
     // valid vertex of its cells (-infinity for a block without one). Level 0 is not stored: it is the cells.
     int pyramidLevels() const { return int(pyramid_.size()); }
+    // Seconds the last pyramid build took.
+    double pyramidBuildSeconds() const { return pyramidBuildSeconds_; }
     // Blocks along x and y at level k.
     int64_t pyramidBlocksX(int k) const { return (cellsX() + (int64_t(1) << k) - 1) >> k; }
     int64_t pyramidBlocksY(int k) const { return (cellsY() + (int64_t(1) << k) - 1) >> k; }
@@ -91,6 +93,7 @@ private:
     float minHeightM_ = 0.0f;
     float maxHeightM_ = 0.0f;
     std::vector<std::vector<float>> pyramid_;  // levels 1..n, row-major blocks
+    double pyramidBuildSeconds_ = 0.0;
 };
 
 }  // namespace terracast

@@ -40,8 +40,8 @@ public:
     bool occluded(const Ray& ray, Interval interval) const;
 
     SurfaceMethod method() const { return method_; }
-    // Seconds spent building acceleration data (0 for the direct tracer, which needs none).
-    double buildSeconds() const { return embree_ ? embree_->buildSeconds() : 0.0; }
+    // Seconds spent building acceleration data: Embree's BVH, or the grid's maximum pyramid.
+    double buildSeconds() const { return embree_ ? embree_->buildSeconds() : grid_.pyramidBuildSeconds(); }
     // Bytes of the surface's own data: the grid for the direct tracer; Embree's own count for Embree
     // (it copies the vertices).
     int64_t memoryBytes() const;
