@@ -21,6 +21,20 @@ void addDemOptions(CLI::App& cmd, DemOptions& dem) {
         ->check(CLI::PositiveNumber);
 }
 
+// Parses the --size and --sun texts shared by render and compare; prints one line and returns false on error.
+bool parseViewOptions(const std::string& size, const std::string& sun, int& width, int& height, double& azimuthDeg,
+                      double& elevationDeg) {
+    if (!parseSize(size, width, height)) {
+        fmt::print(stderr, "terracast: error: --size: expected WxH with positive integers, found '{}'\n", size);
+        return false;
+    }
+    if (!parsePair(sun, azimuthDeg, elevationDeg)) {
+        fmt::print(stderr, "terracast: error: --sun: expected AZ,EL in degrees, found '{}'\n", sun);
+        return false;
+    }
+    return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -92,14 +106,9 @@ int main(int argc, char** argv) {
     if (*infoCmd) return runInfo(info);
     if (*accuracyCmd) return runAccuracy(accuracy);
     if (*compareCmd) {
-        if (!parseSize(compareSize, compare.width, compare.height)) {
-            fmt::print(stderr, "terracast: error: --size: expected WxH with positive integers, found '{}'\n", compareSize);
+        if (!parseViewOptions(compareSize, compareSun, compare.width, compare.height, compare.sunAzimuthDeg,
+                              compare.sunElevationDeg))
             return 2;
-        }
-        if (!parsePair(compareSun, compare.sunAzimuthDeg, compare.sunElevationDeg)) {
-            fmt::print(stderr, "terracast: error: --sun: expected AZ,EL in degrees, found '{}'\n", compareSun);
-            return 2;
-        }
         if (!compareMethodsText.empty()) {
             compare.methods.clear();
             size_t startPos = 0;
@@ -120,14 +129,8 @@ int main(int argc, char** argv) {
         return runCompare(compare);
     }
     if (*renderCmd) {
-        if (!parseSize(size, render.width, render.height)) {
-            fmt::print(stderr, "terracast: error: --size: expected WxH with positive integers, found '{}'\n", size);
+        if (!parseViewOptions(size, sun, render.width, render.height, render.sunAzimuthDeg, render.sunElevationDeg))
             return 2;
-        }
-        if (!parsePair(sun, render.sunAzimuthDeg, render.sunElevationDeg)) {
-            fmt::print(stderr, "terracast: error: --sun: expected AZ,EL in degrees, found '{}'\n", sun);
-            return 2;
-        }
         const auto m = parseSurfaceMethod(method);
         if (!m) {
             fmt::print(stderr, "terracast: error: --method: expected one of {}, found '{}'\n", surfaceMethodList(), method);

@@ -18,18 +18,6 @@ struct TestRay {
     bool shadow = false;
 };
 
-ErrorSummary summarise(std::vector<double> errors) {
-    ErrorSummary s;
-    if (errors.empty()) return s;
-    std::sort(errors.begin(), errors.end());
-    double sum = 0.0;
-    for (double e : errors) sum += e;
-    s.mean = sum / double(errors.size());
-    s.p99 = errors[std::min(errors.size() - 1, size_t(std::ceil(0.99 * double(errors.size()))) - 1)];
-    s.max = errors.back();
-    return s;
-}
-
 // A random point on the reference surface, found by a vertical reference ray over a random valid position.
 std::optional<HeightFieldHit> randomSurfacePoint(const HeightGrid& g, std::mt19937_64& rng) {
     std::uniform_real_distribution<double> U(0.0, 1.0);
@@ -83,6 +71,18 @@ std::vector<TestRay> makeRays(const HeightGrid& g, const AccuracyOptions& o, Acc
 
 }  // namespace
 
+ErrorSummary summariseErrors(std::vector<double> errors) {
+    ErrorSummary s;
+    if (errors.empty()) return s;
+    std::sort(errors.begin(), errors.end());
+    double sum = 0.0;
+    for (double e : errors) sum += e;
+    s.mean = sum / double(errors.size());
+    s.p99 = errors[std::min(errors.size() - 1, size_t(std::ceil(0.99 * double(errors.size()))) - 1)];
+    s.max = errors.back();
+    return s;
+}
+
 AccuracyReport measureAccuracy(const HeightGrid& grid, const AccuracyOptions& options) {
     AccuracyReport report;
     report.grazingToleranceM = grazingToleranceM(grid);
@@ -127,8 +127,8 @@ AccuracyReport measureAccuracy(const HeightGrid& grid, const AccuracyOptions& op
             relErr.push_back(*refT[k] > 0.0 ? e / *refT[k] : (e > 0.0 ? kInfinity : 0.0));
         }
         acc.comparedHits = int64_t(absErr.size());
-        acc.tErrorM = summarise(std::move(absErr));
-        acc.tErrorRel = summarise(std::move(relErr));
+        acc.tErrorM = summariseErrors(std::move(absErr));
+        acc.tErrorRel = summariseErrors(std::move(relErr));
         report.methods.push_back(acc);
     }
     return report;

@@ -22,6 +22,9 @@ struct ErrorSummary {
     double max = 0.0;
 };
 
+// Summarises a set of errors (empty: all zero).
+ErrorSummary summariseErrors(std::vector<double> errors);
+
 struct MethodAccuracy {
     CellMethod method = CellMethod::Bilinear;
     double raysPerSecond = 0.0;        // single thread, this run

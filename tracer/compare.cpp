@@ -21,18 +21,6 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-ErrorSummary summarise(std::vector<double> e) {
-    ErrorSummary s;
-    if (e.empty()) return s;
-    std::sort(e.begin(), e.end());
-    double sum = 0.0;
-    for (double v : e) sum += v;
-    s.mean = sum / double(e.size());
-    s.p99 = e[std::min(e.size() - 1, size_t(std::ceil(0.99 * double(e.size()))) - 1)];
-    s.max = e.back();
-    return s;
-}
-
 // Traces one method: a timed primary pass, a timed shadow pass over its hits, then shading.
 MethodComparison traceMethod(const HeightGrid& grid, SurfaceMethod method, const TerrainRenderSettings& s) {
     MethodComparison m;
@@ -133,8 +121,8 @@ CompareReport compareSurfaces(const HeightGrid& grid, const CompareSettings& set
             sq += d * d;
         }
         m.hitAgreement = double(agree) / double(m.hitT.size());
-        m.tErrorM = summarise(std::move(absErr));
-        m.tErrorRel = summarise(std::move(relErr));
+        m.tErrorM = summariseErrors(std::move(absErr));
+        m.tErrorRel = summariseErrors(std::move(relErr));
         m.imageRmse = std::sqrt(sq / double(m.image.rgb.size()));
         m.imagePsnrDb = m.imageRmse > 0.0 ? 20.0 * std::log10(1.0 / m.imageRmse) : std::numeric_limits<double>::infinity();
         if (embree) {
