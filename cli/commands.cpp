@@ -124,14 +124,55 @@ void writeTextAtomically(const std::string& path, const std::string& text) {
         out.flush();
         if (!out) {
             fs::remove(tmp, ec);
-            throw InputError(fmt::format("{}: cannot write in '{}'", path, dir.string()));
+            throw std::runtime_error(fmt::format("{}: cannot write in '{}'", path, dir.string()));
         }
     }
     fs::rename(tmp, target, ec);
     if (ec) {
+        const std::string reason = ec.message();
         fs::remove(tmp, ec);
-        throw InputError(fmt::format("{}: cannot write ({})", path, ec.message()));
+        throw std::runtime_error(fmt::format("{}: cannot write ({})", path, reason));
     }
+}
+
+// Refuses an output path that names the input DEM.
+void checkNotInput(const std::string& output, const std::string& input, const char* what) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (fs::exists(output, ec) && fs::exists(input, ec) && fs::equivalent(output, input, ec))
+        throw InputError(fmt::format("{}: {} is the input DEM; refusing to overwrite it", output, what));
+}
+
+// Checks the view values every rendering command shares, before any loading.
+void checkViewValues(double exaggeration, double sunElevationDeg) {
+    if (!(exaggeration > 0.0) || !std::isfinite(exaggeration))
+        throw InputError(fmt::format("--exaggeration: expected a positive number, found {}", exaggeration));
+    if (!(sunElevationDeg >= -90.0 && sunElevationDeg <= 90.0))
+        throw InputError(fmt::format("--sun: elevation must lie in [-90, 90] degrees, found {}", sunElevationDeg));
+}
+
+// Applies the exaggeration to the loaded grid and builds the view: size, sun, camera (automatic or parsed).
+TerrainRenderSettings makeView(HeightGrid& grid, int width, int height, double sunAzimuthDeg, double sunElevationDeg,
+                               double exaggeration, const std::string& camera, int threads) {
+    if (exaggeration != 1.0) {
+        const float k = float(exaggeration);
+        const double top = std::max(std::abs(double(grid.minHeightM())), std::abs(double(grid.maxHeightM())));
+        if (!(k > 0.0f) || !std::isfinite(double(k) * top) || double(k) * top > 1e12)
+            throw InputError(fmt::format("--exaggeration: {} makes heights of up to {:.0f} m unusable (expected a "
+                                         "factor that keeps them below 1e12 m)",
+                                         exaggeration, top));
+        grid.scaleHeights(k);
+    }
+    TerrainRenderSettings s;
+    s.width = width;
+    s.height = height;
+    s.threads = threads;
+    s.sun.azimuthDeg = sunAzimuthDeg;
+    s.sun.elevationDeg = sunElevationDeg;
+    s.camera = autoCamera(grid, double(width) / double(height));
+    if (!camera.empty())
+        if (auto err = parseCamera(camera, s.camera)) throw InputError("--camera: " + *err);
+    return s;
 }
 
 std::string jsonNumber(double v) {
@@ -223,29 +264,15 @@ int runInfo(const InfoOptions& options) {
 int runRender(const RenderOptions& o) {
     return guarded([&] {
         checkOutputPath(o.output, o.dem.path);
-        if (!(o.exaggeration > 0.0) || !std::isfinite(o.exaggeration))
-            throw InputError(fmt::format("--exaggeration: expected a positive number, found {}", o.exaggeration));
-        if (!(o.sunElevationDeg >= -90.0 && o.sunElevationDeg <= 90.0))
-            throw InputError(fmt::format("--sun: elevation must lie in [-90, 90] degrees, found {}", o.sunElevationDeg));
+        checkViewValues(o.exaggeration, o.sunElevationDeg);
         LoadedDem dem = load(o.dem);
         HeightGrid& grid = dem.grid;
-        if (o.exaggeration != 1.0) grid.scaleHeights(float(o.exaggeration));
-
-        TerrainRenderSettings s;
-        s.width = o.width;
-        s.height = o.height;
-        s.threads = o.threads;
-        s.sun.azimuthDeg = o.sunAzimuthDeg;
-        s.sun.elevationDeg = o.sunElevationDeg;
-        const double aspect = double(o.width) / double(o.height);
-        s.camera = autoCamera(grid, aspect);
-        if (!o.camera.empty()) {
-            if (auto err = parseCamera(o.camera, s.camera)) throw InputError("--camera: " + *err);
-        }
+        TerrainRenderSettings s = makeView(grid, o.width, o.height, o.sunAzimuthDeg, o.sunElevationDeg, o.exaggeration,
+                                           o.camera, o.threads);
         TerminalProgress progress(!o.quiet);
         s.progress = [&](double f, int64_t rays) { progress.update(f, rays); };
 
-        const TerrainSurface surface(grid, o.method);
+        const TerrainSurface surface(grid, o.method, o.threads);
         RenderStats stats;
         Film film = renderTerrain(grid, surface, s, &stats);
         writeImage(o.output, RgbImage{film.width, film.height, std::move(film.rgb)});
@@ -271,6 +298,7 @@ int runAccuracy(const AccuracyCommandOptions& o) {
             std::error_code ec;
             if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
                 throw InputError(fmt::format("{}: output folder '{}' does not exist", o.json, dir.string()));
+            checkNotInput(o.json, o.dem.path, "--json");
         }
         const LoadedDem dem = load(o.dem);
         AccuracyOptions options;
@@ -302,10 +330,10 @@ int runAccuracy(const AccuracyCommandOptions& o) {
             for (size_t k = 0; k < r.methods.size(); ++k) {
                 const auto& m = r.methods[k];
                 j += fmt::format(
-                    "{}\n  {{\"name\": \"{}\", \"rays_per_s\": {}, \"hit_agreement\": {}, "
+                    "{}\n  {{\"name\": \"{}\", \"rays_per_s\": {}, \"primary_rays_per_s\": {}, \"hit_agreement\": {}, "
                     "\"disagreements\": {}, \"unambiguous_disagreements\": {}, \"compared_hits\": {}, "
                     "\"t_error_m\": {}, \"t_error_rel\": {}}}",
-                    k ? "," : "", cellMethodName(m.method), jsonNumber(m.raysPerSecond),
+                    k ? "," : "", cellMethodName(m.method), jsonNumber(m.raysPerSecond), jsonNumber(m.raysPerSecond),
                     jsonNumber(double(m.agreements) / double(r.rays)), m.disagreements, m.unambiguousDisagreements,
                     m.comparedHits, errorJson(m.tErrorM), errorJson(m.tErrorRel));
             }
@@ -320,29 +348,21 @@ int runCompare(const CompareCommandOptions& o) {
     return guarded([&] {
         namespace fs = std::filesystem;
         std::error_code ec;
-        if (!o.outDir.empty() && !fs::is_directory(o.outDir, ec) && !fs::create_directories(o.outDir, ec))
-            throw InputError(fmt::format("--out-dir: cannot create folder '{}' ({})", o.outDir, ec.message()));
         if (!o.json.empty()) {
             const auto dir = fs::path(o.json).parent_path();
             if (!dir.empty() && !fs::is_directory(dir, ec))
                 throw InputError(fmt::format("{}: output folder '{}' does not exist", o.json, dir.string()));
+            checkNotInput(o.json, o.dem.path, "--json");
         }
-        if (!(o.exaggeration > 0.0) || !std::isfinite(o.exaggeration))
-            throw InputError(fmt::format("--exaggeration: expected a positive number, found {}", o.exaggeration));
+        checkViewValues(o.exaggeration, o.sunElevationDeg);
         LoadedDem dem = load(o.dem);
-        if (o.exaggeration != 1.0) dem.grid.scaleHeights(float(o.exaggeration));
-
         CompareSettings cs;
         cs.methods = o.methods;
-        TerrainRenderSettings& s = cs.render;
-        s.width = o.width;
-        s.height = o.height;
-        s.threads = o.threads;
-        s.sun.azimuthDeg = o.sunAzimuthDeg;
-        s.sun.elevationDeg = o.sunElevationDeg;
-        s.camera = autoCamera(dem.grid, double(o.width) / double(o.height));
-        if (!o.camera.empty())
-            if (auto err = parseCamera(o.camera, s.camera)) throw InputError("--camera: " + *err);
+        cs.render = makeView(dem.grid, o.width, o.height, o.sunAzimuthDeg, o.sunElevationDeg, o.exaggeration, o.camera,
+                             o.threads);
+        // The output folder is made only once the input has loaded, so a bad input leaves nothing behind.
+        if (!o.outDir.empty() && !fs::is_directory(o.outDir, ec) && !fs::create_directories(o.outDir, ec))
+            throw InputError(fmt::format("--out-dir: cannot create folder '{}' ({})", o.outDir, ec.message()));
 
         const auto start = std::chrono::steady_clock::now();
         const CompareReport r = compareSurfaces(dem.grid, cs);
@@ -362,6 +382,20 @@ int runCompare(const CompareCommandOptions& o) {
                        m.ratioToEmbreeShadow);
         fmt::print("({:.1f} s in all; x prim / x shad: rays per second over embree's, this run)\n", seconds);
 
+        if (!o.outDir.empty()) {
+            const MethodComparison* ref = nullptr;
+            for (const auto& m : r.methods)
+                if (m.method == r.reference) ref = &m;
+            for (const auto& m : r.methods) {
+                const std::string name = surfaceMethodName(m.method);
+                writeImage((fs::path(o.outDir) / (name + ".png")).string(), RgbImage{m.image.width, m.image.height, m.image.rgb});
+                if (&m == ref) continue;
+                const Film heat = differenceHeatMap(m, *ref);
+                writeImage((fs::path(o.outDir) / ("diff-" + name + ".png")).string(), RgbImage{heat.width, heat.height, heat.rgb});
+            }
+            writeTextAtomically((fs::path(o.outDir) / "tradeoff.svg").string(), tradeoffSvg(r));
+        }
+        // The report goes last: its presence says the run completed.
         if (!o.json.empty()) {
             std::string j = fmt::format("{{\"dem\": {}, \"width\": {}, \"height\": {}, \"image_width\": {}, "
                                         "\"image_height\": {}, \"rays\": {}, \"reference\": \"{}\",\n \"methods\": [",
@@ -383,19 +417,6 @@ int runCompare(const CompareCommandOptions& o) {
             }
             j += "\n ]}\n";
             writeTextAtomically(o.json, j);
-        }
-        if (!o.outDir.empty()) {
-            const MethodComparison* ref = nullptr;
-            for (const auto& m : r.methods)
-                if (m.method == r.reference) ref = &m;
-            for (const auto& m : r.methods) {
-                const std::string name = surfaceMethodName(m.method);
-                writeImage((fs::path(o.outDir) / (name + ".png")).string(), RgbImage{m.image.width, m.image.height, m.image.rgb});
-                if (&m == ref) continue;
-                const Film heat = differenceHeatMap(m, *ref);
-                writeImage((fs::path(o.outDir) / ("diff-" + name + ".png")).string(), RgbImage{heat.width, heat.height, heat.rgb});
-            }
-            writeTextAtomically((fs::path(o.outDir) / "tradeoff.svg").string(), tradeoffSvg(r));
         }
         return 0;
     });

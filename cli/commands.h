@@ -28,7 +28,7 @@ int runInfo(const InfoOptions& options);
 // `terracast render DEM -o OUT`
 struct RenderOptions {
     DemOptions dem;
-    std::string output;                        // .png (8-bit sRGB) or .exr (linear float)
+    std::string output;                        // .png (8-bit sRGB) or .exr (linear half float)
     int width = 1280;                          // pixels
     int height = 720;                          // pixels
     double sunAzimuthDeg = 315.0;              // clockwise from north

@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
     std::string size = "1280x720", sun = "315,35", method = "bilinear";
     auto* renderCmd = app.add_subcommand("render", "Render a shaded 3D view of a DEM to PNG or EXR");
     addDemOptions(*renderCmd, render.dem);
-    renderCmd->add_option("-o,--output", render.output, "Output image: .png (8-bit sRGB) or .exr (linear float)")
+    renderCmd->add_option("-o,--output", render.output, "Output image: .png (8-bit sRGB) or .exr (linear half float)")
         ->required();
     renderCmd->add_option("--size", size, "Image size WxH in pixels (default 1280x720)");
     renderCmd->add_option("--sun", sun, "Sun azimuth,elevation in degrees, azimuth clockwise from north (default 315,35)");

@@ -85,8 +85,12 @@ void writeImage(const std::string& path, const RgbImage& image) {
     // The real extension stays last so that OpenImageIO picks the format from the temporary name.
     // Declared before the writer, so the writer closes its file before the file is removed.
     TemporaryFile temporary(folder / fmt::format(".{}.tmp{}{}", target.filename().string(), getpid(), ext));
+    // A folder we may not write in is the user's to fix (exit 2); a write that fails on the way (a full disk)
+    // is a runtime failure (exit 1).
+    if (::access(folder.c_str(), W_OK) != 0)
+        throw InputError(fmt::format("{}: folder '{}' is not writable", path, folder.string()));
     auto fail = [&](const std::string& reason) {
-        return InputError(fmt::format("{}: cannot write in '{}' ({})", path, folder.string(), firstLine(reason)));
+        return std::runtime_error(fmt::format("{}: cannot write in '{}' ({})", path, folder.string(), firstLine(reason)));
     };
 
     auto output = OIIO::ImageOutput::create(temporary.path().string());

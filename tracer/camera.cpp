@@ -68,28 +68,32 @@ std::optional<std::string> parseCamera(const std::string& text, PinholeCamera& c
     };
     while (in >> item) {
         const auto eq = item.find('=');
-        if (eq == std::string::npos) return "camera: expected key=value, found '" + item + "'";
+        if (eq == std::string::npos) return "expected key=value, found '" + item + "'";
         const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
         if (key == "eye") {
-            if (!parseVec(value, camera.eyeM)) return "camera: eye expects x,y,z in metres, found '" + value + "'";
+            if (!parseVec(value, camera.eyeM)) return "eye expects x,y,z in metres, found '" + value + "'";
             haveEye = true;
         } else if (key == "look") {
-            if (!parseVec(value, camera.lookAtM)) return "camera: look expects x,y,z in metres, found '" + value + "'";
+            if (!parseVec(value, camera.lookAtM)) return "look expects x,y,z in metres, found '" + value + "'";
             haveLook = true;
         } else if (key == "up") {
-            if (!parseVec(value, camera.up)) return "camera: up expects x,y,z, found '" + value + "'";
+            if (!parseVec(value, camera.up)) return "up expects x,y,z, found '" + value + "'";
         } else if (key == "fov") {
             char* end = nullptr;
             const double fov = std::strtod(value.c_str(), &end);
             if (end == value.c_str() || *end != '\0' || !(fov > 0.0 && fov < 180.0))
-                return "camera: fov expects degrees in (0, 180), found '" + value + "'";
+                return "fov expects degrees in (0, 180), found '" + value + "'";
             camera.fovYDeg = fov;
         } else {
-            return "camera: unknown key '" + key + "' (expected eye, look, up or fov)";
+            return "unknown key '" + key + "' (expected eye, look, up or fov)";
         }
     }
-    if (!haveEye || !haveLook) return std::string("camera: both eye=x,y,z and look=x,y,z are required");
-    if (glm::length(camera.lookAtM - camera.eyeM) == 0.0) return std::string("camera: eye and look are the same point");
+    if (!haveEye || !haveLook) return std::string("both eye=x,y,z and look=x,y,z are required");
+    const glm::dvec3 view = camera.lookAtM - camera.eyeM;
+    if (glm::length(view) == 0.0) return std::string("eye and look are the same point");
+    if (glm::length(glm::cross(glm::normalize(view), camera.up)) < 1e-9 * glm::length(camera.up) ||
+        glm::length(camera.up) == 0.0)
+        return std::string("up must be non-zero and not parallel to the view direction");
     return std::nullopt;
 }
 

@@ -25,7 +25,7 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 MethodComparison traceMethod(const HeightGrid& grid, SurfaceMethod method, const TerrainRenderSettings& s) {
     MethodComparison m;
     m.method = method;
-    const TerrainSurface surface(grid, method);
+    const TerrainSurface surface(grid, method, s.threads);
     m.buildSeconds = surface.buildSeconds();
     m.memoryBytes = surface.memoryBytes();
     const int w = s.width, h = s.height;
@@ -113,7 +113,7 @@ CompareReport compareSurfaces(const HeightGrid& grid, const CompareSettings& set
             if (a && b) {
                 const double e = std::abs(m.hitT[k] - ref->hitT[k]);
                 absErr.push_back(e);
-                relErr.push_back(e / ref->hitT[k]);
+                relErr.push_back(ref->hitT[k] > 0.0 ? e / ref->hitT[k] : (e > 0.0 ? kInfinity : 0.0));
             }
         }
         for (size_t k = 0; k < m.image.rgb.size(); ++k) {
@@ -125,6 +125,7 @@ CompareReport compareSurfaces(const HeightGrid& grid, const CompareSettings& set
         m.tErrorRel = summariseErrors(std::move(relErr));
         m.imageRmse = std::sqrt(sq / double(m.image.rgb.size()));
         m.imagePsnrDb = m.imageRmse > 0.0 ? 20.0 * std::log10(1.0 / m.imageRmse) : std::numeric_limits<double>::infinity();
+        m.ratioToEmbreePrimary = m.ratioToEmbreeShadow = std::numeric_limits<double>::quiet_NaN();
         if (embree) {
             m.ratioToEmbreePrimary = embree->primaryRaysPerSecond > 0 ? m.primaryRaysPerSecond / embree->primaryRaysPerSecond : 0.0;
             m.ratioToEmbreeShadow = embree->shadowRaysPerSecond > 0 ? m.shadowRaysPerSecond / embree->shadowRaysPerSecond : 0.0;
@@ -215,18 +216,19 @@ Film differenceHeatMap(const MethodComparison& method, const MethodComparison& r
                 map.set(x, y, heatColour(wgt));
             }
         }
-    // Legend: a colour bar over the middle of the strip, labelled with its ends in metres, and the
-    // hit/miss swatch.
+    // Legend: a colour bar labelled with its ends in metres, and the hit/miss swatch. Everything is clipped
+    // to the picture, so narrow images get a cut-off legend rather than a write out of bounds.
     const glm::vec3 white{1.0f, 1.0f, 1.0f};
+    auto fill = [&](int x0, int y0, int x1, int y1, auto colourAt) {
+        for (int y = std::max(y0, 0); y < std::min(y1, map.height); ++y)
+            for (int x = std::max(x0, 0); x < std::min(x1, map.width); ++x) map.set(x, y, colourAt(x));
+    };
+    fill(0, h, w, h + legend, [](int) { return glm::vec3(0.0f); });
     const int scale = 2, barX0 = 8 * 4 * scale + 12, barX1 = std::max(barX0 + 20, w - 8 * 4 * scale - 80);
-    for (int y = h; y < h + legend; ++y)
-        for (int x = 0; x < w; ++x) map.set(x, y, {0.0f, 0.0f, 0.0f});
-    for (int x = barX0; x < barX1; ++x)
-        for (int y = h + 6; y < h + 18; ++y) map.set(x, y, heatColour(double(x - barX0) / double(barX1 - barX0 - 1)));
+    fill(barX0, h + 6, barX1, h + 18, [&](int x) { return heatColour(double(x - barX0) / double(barX1 - barX0 - 1)); });
     drawText(map, 4, h + 7, shortNumber(std::pow(10.0, decLo)) + " m", scale, white);
     drawText(map, barX1 + 6, h + 7, shortNumber(std::pow(10.0, decHi)) + " m", scale, white);
-    for (int y = h + 22; y < h + 32; ++y)
-        for (int x = barX0; x < barX0 + 10; ++x) map.set(x, y, mismatch);
+    fill(barX0, h + 22, barX0 + 10, h + 32, [&](int) { return mismatch; });
     drawText(map, barX0 + 16, h + 22, "hit/miss", scale, white);
     return map;
 }

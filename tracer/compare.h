@@ -22,7 +22,7 @@ struct CompareSettings {
 
 struct MethodComparison {
     SurfaceMethod method = SurfaceMethod::Bilinear;
-    double buildSeconds = 0.0;         // acceleration structure build (0 for the direct tracer)
+    double buildSeconds = 0.0;         // Embree's BVH build, or the direct tracer's maximum pyramid
     int64_t memoryBytes = 0;           // ours from our allocations; Embree's from its memory monitor
     int64_t primaryRays = 0;
     int64_t shadowRays = 0;
@@ -33,8 +33,8 @@ struct MethodComparison {
     ErrorSummary tErrorRel;            // the same over t_ref
     double imageRmse = 0.0;            // against the reference image, linear RGB clamped to [0, 1]
     double imagePsnrDb = 0.0;          // 20 log10(1 / rmse); infinite for identical images
-    double ratioToEmbreePrimary = 0.0; // primary rays/s over Embree's, this run (0 when Embree was not run)
-    double ratioToEmbreeShadow = 0.0;
+    double ratioToEmbreePrimary = 0.0; // primary rays/s over Embree's, this run (NaN when Embree was not run)
+    double ratioToEmbreeShadow = 0.0;  // the same for shadow rays
     Film image;                        // the method's picture
     std::vector<double> hitT;          // primary hit distance per pixel, NaN for a miss
 };

@@ -20,11 +20,30 @@ struct ErrorSink {
     std::string message;
 };
 
-void onEmbreeError(void* user, RTCError code, const char* text) {
-    auto* sink = static_cast<ErrorSink*>(user);
-    std::lock_guard lock(sink->mutex);
-    if (sink->message.empty()) sink->message = "error " + std::to_string(int(code)) + ": " + (text ? text : "");
+void onEmbreeError(void* user, RTCError code, const char* text) noexcept {
+    // Nothing may escape into Embree's C code: a failed allocation here only loses the message text.
+    try {
+        auto* sink = static_cast<ErrorSink*>(user);
+        std::lock_guard lock(sink->mutex);
+        if (sink->message.empty()) sink->message = "error " + std::to_string(int(code)) + ": " + (text ? text : "");
+    } catch (...) {
+    }
 }
+
+// Owns one RTCGeometry until it is attached, so an exception in between cannot leak it.
+class GeometryHolder {
+public:
+    explicit GeometryHolder(RTCGeometry g) : g_(g) {}
+    ~GeometryHolder() {
+        if (g_) rtcReleaseGeometry(g_);
+    }
+    GeometryHolder(const GeometryHolder&) = delete;
+    GeometryHolder& operator=(const GeometryHolder&) = delete;
+    RTCGeometry get() const { return g_; }
+
+private:
+    RTCGeometry g_;
+};
 
 }  // namespace
 
@@ -61,12 +80,13 @@ struct EmbreeTerrain::Impl {
     }
 };
 
-EmbreeTerrain::EmbreeTerrain(const HeightGrid& grid, EmbreeLayout layout)
+EmbreeTerrain::EmbreeTerrain(const HeightGrid& grid, EmbreeLayout layout, int threads)
     : impl_(std::make_unique<Impl>()), cellSizeXM_(grid.cellSizeXM()), cellSizeYM_(grid.cellSizeYM()), grid_(&grid) {
     const auto start = std::chrono::steady_clock::now();
     if (grid.width() * grid.height() > int64_t(std::numeric_limits<unsigned>::max()))
         throw std::runtime_error("Embree: the grid has more vertices than 32-bit indices can address");
-    impl_->device = rtcNewDevice(nullptr);
+    const std::string config = threads > 0 ? "threads=" + std::to_string(threads) : std::string();
+    impl_->device = rtcNewDevice(config.empty() ? nullptr : config.c_str());
     if (!impl_->device) throw std::runtime_error("Embree rtcNewDevice: error " + std::to_string(int(rtcGetDeviceError(nullptr))));
     rtcSetDeviceErrorFunction(impl_->device, onEmbreeError, &impl_->errors);
     rtcSetDeviceMemoryMonitorFunction(impl_->device, memoryMonitorThunk, this);
@@ -92,8 +112,9 @@ EmbreeTerrain::EmbreeTerrain(const HeightGrid& grid, EmbreeLayout layout)
     };
 
     if (layout == EmbreeLayout::TriangleMesh) {
-        RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        const GeometryHolder holder(rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE));
         impl_->check("rtcNewGeometry(TRIANGLE)");
+        RTCGeometry geom = holder.get();
         fillVertices(geom);
         const int64_t cells = grid.validCellCount();
         auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
@@ -113,7 +134,6 @@ EmbreeTerrain::EmbreeTerrain(const HeightGrid& grid, EmbreeLayout layout)
         rtcCommitGeometry(geom);
         impl_->check("rtcCommitGeometry");
         rtcAttachGeometry(impl_->scene, geom);
-        rtcReleaseGeometry(geom);
     } else {
         // Grids of at most kTile x kTile cells; a tile with holes becomes one strip per run of valid cells.
         constexpr int64_t kTile = 256;
@@ -144,8 +164,9 @@ EmbreeTerrain::EmbreeTerrain(const HeightGrid& grid, EmbreeLayout layout)
                         i = e;
                     }
             }
-        RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_GRID);
+        const GeometryHolder holder(rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_GRID));
         impl_->check("rtcNewGeometry(GRID)");
+        RTCGeometry geom = holder.get();
         fillVertices(geom);
         auto* g = static_cast<RTCGrid*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID,
                                                                sizeof(RTCGrid), grids.size()));
@@ -155,7 +176,6 @@ EmbreeTerrain::EmbreeTerrain(const HeightGrid& grid, EmbreeLayout layout)
         rtcCommitGeometry(geom);
         impl_->check("rtcCommitGeometry");
         rtcAttachGeometry(impl_->scene, geom);
-        rtcReleaseGeometry(geom);
     }
     rtcCommitScene(impl_->scene);
     impl_->check("rtcCommitScene");

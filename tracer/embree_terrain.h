@@ -26,8 +26,9 @@ enum class EmbreeLayout {
 // Triangles use the diagonal (i+1, j)-(i, j+1), as CellMethod::Triangles does; nodata cells are left out.
 class EmbreeTerrain {
 public:
-    // Builds the scene (RTC_SCENE_FLAG_ROBUST, high build quality). Throws std::runtime_error on failure.
-    EmbreeTerrain(const HeightGrid& grid, EmbreeLayout layout);
+    // Builds the scene (RTC_SCENE_FLAG_ROBUST, high build quality) on a device with `threads` build threads
+    // (0 = all cores). Throws std::runtime_error on failure.
+    EmbreeTerrain(const HeightGrid& grid, EmbreeLayout layout, int threads = 0);
     ~EmbreeTerrain();
     EmbreeTerrain(const EmbreeTerrain&) = delete;
     EmbreeTerrain& operator=(const EmbreeTerrain&) = delete;
@@ -48,9 +49,10 @@ public:
 
 private:
     struct Impl;
-    std::unique_ptr<Impl> impl_;
+    // The counters come first: the device, released with impl_, reports its last frees to them.
     std::atomic<int64_t> embreeBytes_{0};
     std::atomic<int64_t> peakBytes_{0};
+    std::unique_ptr<Impl> impl_;
     double buildSeconds_ = 0.0;
     int64_t triangles_ = 0;
     double cellSizeXM_ = 1.0, cellSizeYM_ = 1.0;

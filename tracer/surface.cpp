@@ -53,10 +53,11 @@ const std::vector<SurfaceMethod>& compareMethods() {
     return methods;
 }
 
-TerrainSurface::TerrainSurface(const HeightGrid& grid, SurfaceMethod method)
+TerrainSurface::TerrainSurface(const HeightGrid& grid, SurfaceMethod method, int threads)
     : grid_(grid), method_(method), cell_(toCellMethod(method)) {
-    if (method == SurfaceMethod::Embree) embree_ = std::make_unique<EmbreeTerrain>(grid, EmbreeLayout::TriangleMesh);
-    if (method == SurfaceMethod::EmbreeGrid) embree_ = std::make_unique<EmbreeTerrain>(grid, EmbreeLayout::Grid);
+    if (method == SurfaceMethod::Embree)
+        embree_ = std::make_unique<EmbreeTerrain>(grid, EmbreeLayout::TriangleMesh, threads);
+    if (method == SurfaceMethod::EmbreeGrid) embree_ = std::make_unique<EmbreeTerrain>(grid, EmbreeLayout::Grid, threads);
 }
 
 std::optional<HeightFieldHit> TerrainSurface::intersect(const Ray& ray, Interval interval) const {

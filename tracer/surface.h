@@ -34,7 +34,8 @@ const std::vector<SurfaceMethod>& compareMethods();
 // A surface that answers nearest-hit and occlusion queries in the grid's local frame.
 class TerrainSurface {
 public:
-    TerrainSurface(const HeightGrid& grid, SurfaceMethod method);
+    // `threads` bounds Embree's build threads (0 = all cores); the direct tracer builds nothing here.
+    TerrainSurface(const HeightGrid& grid, SurfaceMethod method, int threads = 0);
 
     std::optional<HeightFieldHit> intersect(const Ray& ray, Interval interval) const;
     bool occluded(const Ray& ray, Interval interval) const;

@@ -111,3 +111,27 @@ TEST_CASE("CLI: render with --method embree and embree-grid writes the picture",
     CHECK(differ <= a.rgb.size() / 100);
     fs::remove_all(dir);
 }
+
+TEST_CASE("CLI: bad view values are refused with exit 2 and name the option", "[cli]") {
+    const fs::path dir = tempDir("view");
+    const std::string out = (dir / "v.png").string();
+    auto r = runTerracast("render '" + kStHelens + "' -o '" + out + "' --camera 'eye=0,0,5000 look=0,100,5000 up=0,1,0'");
+    CHECK(r.exitCode == 2);
+    CHECK(r.err.find("--camera") != std::string::npos);
+    r = runTerracast("render '" + kStHelens + "' -o '" + out + "' --exaggeration 1e36");
+    CHECK(r.exitCode == 2);
+    CHECK(r.err.find("--exaggeration") != std::string::npos);
+    r = runTerracast("compare '" + kStHelens + "' --sun 315,200");
+    CHECK(r.exitCode == 2);
+    CHECK(r.err.find("--sun") != std::string::npos);
+    CHECK(fs::is_empty(dir));
+    // A missing DEM leaves no output folder behind.
+    r = runTerracast("compare '" + (dir / "none.tif").string() + "' --out-dir '" + (dir / "cmp").string() + "'");
+    CHECK(r.exitCode == 2);
+    CHECK_FALSE(fs::exists(dir / "cmp"));
+    // Tiny pictures still get their heat maps (the legend is clipped, not written out of bounds).
+    r = runTerracast("compare '" + kStHelens + "' --size 8x8 --methods bilinear,nearest --out-dir '" + (dir / "cmp").string() + "'");
+    CHECK(r.exitCode == 0);
+    CHECK(terracast::readImage((dir / "cmp" / "diff-nearest.png").string()).width == 8);
+    fs::remove_all(dir);
+}
