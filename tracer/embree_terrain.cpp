@@ -184,20 +184,29 @@ EmbreeTerrain::EmbreeTerrain(const HeightGrid& grid, EmbreeLayout layout, int th
 
 EmbreeTerrain::~EmbreeTerrain() = default;
 
+namespace {
+// An Embree ray from ours: float origin and direction in the grid's local frame, the interval's ends.
+RTCRay toEmbreeRay(const Ray& ray, Interval interval) {
+    RTCRay r{};
+    r.org_x = float(ray.origin.x);
+    r.org_y = float(ray.origin.y);
+    r.org_z = float(ray.origin.z);
+    r.dir_x = float(ray.dir.x);
+    r.dir_y = float(ray.dir.y);
+    r.dir_z = float(ray.dir.z);
+    r.tnear = float(std::max(0.0, interval.lo));
+    r.tfar = std::isfinite(interval.hi) ? float(interval.hi) : std::numeric_limits<float>::infinity();
+    r.mask = 0xFFFFFFFFu;
+    r.time = float(ray.time);
+    return r;
+}
+}  // namespace
+
 std::optional<HeightFieldHit> EmbreeTerrain::intersect(const Ray& ray, Interval interval) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRayHit rh{};
-    rh.ray.org_x = float(ray.origin.x);
-    rh.ray.org_y = float(ray.origin.y);
-    rh.ray.org_z = float(ray.origin.z);
-    rh.ray.dir_x = float(ray.dir.x);
-    rh.ray.dir_y = float(ray.dir.y);
-    rh.ray.dir_z = float(ray.dir.z);
-    rh.ray.tnear = float(std::max(0.0, interval.lo));
-    rh.ray.tfar = std::isfinite(interval.hi) ? float(interval.hi) : std::numeric_limits<float>::infinity();
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.ray.time = float(ray.time);
+    rh.ray = toEmbreeRay(ray, interval);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(impl_->scene, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
@@ -221,17 +230,7 @@ std::optional<HeightFieldHit> EmbreeTerrain::intersect(const Ray& ray, Interval 
 bool EmbreeTerrain::occluded(const Ray& ray, Interval interval) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    RTCRay r{};
-    r.org_x = float(ray.origin.x);
-    r.org_y = float(ray.origin.y);
-    r.org_z = float(ray.origin.z);
-    r.dir_x = float(ray.dir.x);
-    r.dir_y = float(ray.dir.y);
-    r.dir_z = float(ray.dir.z);
-    r.tnear = float(std::max(0.0, interval.lo));
-    r.tfar = std::isfinite(interval.hi) ? float(interval.hi) : std::numeric_limits<float>::infinity();
-    r.mask = 0xFFFFFFFFu;
-    r.time = float(ray.time);
+    RTCRay r = toEmbreeRay(ray, interval);
     rtcOccluded1(impl_->scene, &context, &r);
     return r.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
 }

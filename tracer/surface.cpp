@@ -1,49 +1,50 @@
 #include "tracer/surface.h"
 
 #include <array>
+#include <string>
+#include <utility>
 
 namespace terracast {
 
 namespace {
-struct Name {
-    SurfaceMethod method;
-    const char* name;
-};
-constexpr std::array<Name, 7> kNames{{
-    {SurfaceMethod::Bilinear, "bilinear"},
-    {SurfaceMethod::BilinearDouble, "bilinear-double"},
-    {SurfaceMethod::Triangles, "triangles"},
-    {SurfaceMethod::Nearest, "nearest"},
-    {SurfaceMethod::Reference, "reference"},
-    {SurfaceMethod::Embree, "embree"},
-    {SurfaceMethod::EmbreeGrid, "embree-grid"},
+// The direct methods share their names with the cell methods; Embree adds two.
+constexpr std::array<std::pair<SurfaceMethod, CellMethod>, 5> kDirect{{
+    {SurfaceMethod::Bilinear, CellMethod::Bilinear},
+    {SurfaceMethod::BilinearDouble, CellMethod::BilinearDouble},
+    {SurfaceMethod::Triangles, CellMethod::Triangles},
+    {SurfaceMethod::Nearest, CellMethod::Nearest},
+    {SurfaceMethod::Reference, CellMethod::Reference},
 }};
 
 CellMethod toCellMethod(SurfaceMethod m) {
-    switch (m) {
-    case SurfaceMethod::BilinearDouble: return CellMethod::BilinearDouble;
-    case SurfaceMethod::Triangles: return CellMethod::Triangles;
-    case SurfaceMethod::Nearest: return CellMethod::Nearest;
-    case SurfaceMethod::Reference: return CellMethod::Reference;
-    default: return CellMethod::Bilinear;
-    }
+    for (const auto& [surface, cell] : kDirect)
+        if (surface == m) return cell;
+    return CellMethod::Bilinear;
 }
 }  // namespace
 
 std::optional<SurfaceMethod> parseSurfaceMethod(std::string_view name) {
-    for (const auto& n : kNames)
-        if (name == n.name) return n.method;
+    if (name == "embree") return SurfaceMethod::Embree;
+    if (name == "embree-grid") return SurfaceMethod::EmbreeGrid;
+    if (const auto cell = parseCellMethod(name))
+        for (const auto& [surface, c] : kDirect)
+            if (c == *cell) return surface;
     return std::nullopt;
 }
 
 const char* surfaceMethodName(SurfaceMethod method) {
-    for (const auto& n : kNames)
-        if (n.method == method) return n.name;
-    return "?";
+    if (method == SurfaceMethod::Embree) return "embree";
+    if (method == SurfaceMethod::EmbreeGrid) return "embree-grid";
+    return cellMethodName(toCellMethod(method));
 }
 
 const char* surfaceMethodList() {
-    return "bilinear, bilinear-double, triangles, nearest, reference, embree, embree-grid";
+    static const std::string list = [] {
+        std::string s;
+        for (const auto& [surface, cell] : kDirect) s += std::string(cellMethodName(cell)) + ", ";
+        return s + "embree, embree-grid";
+    }();
+    return list.c_str();
 }
 
 const std::vector<SurfaceMethod>& compareMethods() {
