@@ -175,8 +175,10 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
         const double h00 = g.at(c.i, c.j), h10 = g.at(c.i + 1, c.j), h01 = g.at(c.i, c.j + 1),
                      h11 = g.at(c.i + 1, c.j + 1);
         const double zMin = std::min(pEnter.z, pExit.z), zMax = std::max(pEnter.z, pExit.z);
+        // A segment wholly below the cell is skipped when looking for the first crossing; for occlusion the
+        // terrain is solid, so such a segment is tested (and found blocked) below.
         if (zMin > std::max(std::max(h00, h10), std::max(h01, h11)) + margin ||
-            zMax < std::min(std::min(h00, h10), std::min(h01, h11)) - margin) {
+            (!anyHit && zMax < std::min(std::min(h00, h10), std::min(h01, h11)) - margin)) {
             cornerG.reset();
             return false;
         }
@@ -195,7 +197,8 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
         seg.gExit = surfaceAboveRay<Real, shape>(g, c.i, c.j, c.exit, pExit);
 
         std::optional<Real> s;
-        if (shape != Shape::Nearest && cornerG && (*cornerG < Real(0)) != (seg.gEntry < Real(0))) s = Real(0);
+        if (anyHit && seg.gEntry > Real(0)) s = Real(0);  // under the solid terrain (entered from a hole or edge)
+        else if (shape != Shape::Nearest && cornerG && (*cornerG < Real(0)) != (seg.gEntry < Real(0))) s = Real(0);
         else if constexpr (shape == Shape::Bilinear) s = intersectBilinearCell(h, seg);
         else if constexpr (shape == Shape::Triangles) s = intersectTrianglesCell(h, seg);
         else s = intersectNearestCell(h, seg);
@@ -249,7 +252,6 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
         hit.errorM = 16.0 * double(eps) * (std::abs(hit.pointM.z) + heightScale + g.cellSizeXM() + g.cellSizeYM()) +
                      16.0 * std::numeric_limits<double>::epsilon() * magnitude;
         result = hit;
-        (void)anyHit;  // the first hit in t order is also the first found: both stop here
         return true;
     };
     // Walk, and after each pyramid skip walk again from where the skipped block ends.

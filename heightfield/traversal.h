@@ -61,7 +61,11 @@ std::optional<HeightFieldHit> intersect(const HeightGrid& grid, const Ray& ray, 
                                         CellMethod method, TraceCounters* counters = nullptr,
                                         Traversal traversal = Traversal::Pyramid);
 
-// True when `ray` hits the height field anywhere in `interval` (stops at the first hit found).
+// True when `ray` meets the terrain anywhere in `interval`, taking the terrain as solid: a ray that is
+// below the surface over a valid cell (having come in through a hole or over the grid's edge) is blocked
+// too. This keeps occlusion monotone in elevation: if a ray towards the sun is blocked, so is every lower
+// one. Stops at the first blocking cell.
+
 bool occluded(const HeightGrid& grid, const Ray& ray, Interval interval, CellMethod method,
               TraceCounters* counters = nullptr, Traversal traversal = Traversal::Pyramid);
 

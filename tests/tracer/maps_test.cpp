@@ -1,0 +1,146 @@
+// Map products: shadow masks against horizon angles, viewsheds on hand-made DEMs, and the map view against
+// analytic shading.
+#include "loaders/dem_loader.h"
+#include "tracer/maps.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using namespace terracast;
+
+namespace {
+constexpr double kDeg = M_PI / 180.0;
+}
+
+TEST_CASE("Shadow mask agrees with the horizon raster", "[tracer][maps]") {
+    const LoadedDem dem = loadDem(std::string(TERRACAST_SOURCE_DIR) +
+                                  "/data-samples/landfire-storm-lake-mt-utm12n-int16-small-nodata.tif");
+    const HeightGrid& g = dem.grid;
+    std::vector<int64_t> shadowedAt;
+    for (double sunElevationDeg : {8.0, 20.0}) {
+        const double az = 250.0 * kDeg, el = sunElevationDeg * kDeg;
+        const MapRaster mask = shadowMask(g, az, el, CellMethod::Bilinear);
+        const MapRaster horizon = horizonMap(g, az, CellMethod::Bilinear);
+        REQUIRE(mask.values.size() == horizon.values.size());
+        int64_t compared = 0, mismatched = 0, shadowed = 0, ties = 0;
+        for (size_t k = 0; k < mask.values.size(); ++k) {
+            const float m = mask.values[k], hDeg = horizon.values[k];
+            REQUIRE(std::isnan(m) == std::isnan(hDeg));
+            if (std::isnan(m)) continue;
+            if (std::abs(hDeg * kDeg - el) < 1e-6) {
+                ++ties;
+                continue;
+            }
+            ++compared;
+            const bool lit = el > hDeg * kDeg;
+            mismatched += lit != (m == 0.0f);
+            shadowed += m == 1.0f;
+        }
+        INFO("sun at " << sunElevationDeg << " degrees: " << compared << " vertices, " << shadowed << " shadowed, "
+                       << ties << " ties");
+        CHECK(mismatched == 0);
+        CHECK(compared > 10000);
+        CHECK(shadowed > 100);       // the test means something: some vertices are in shadow
+        CHECK(shadowed < compared);  // and some are lit
+        shadowedAt.push_back(shadowed);
+    }
+    CHECK(shadowedAt[0] > shadowedAt[1]);  // a lower sun casts more shadow
+}
+
+TEST_CASE("A soft sun gives partial shadow between the hard mask's values", "[tracer][maps]") {
+    const LoadedDem dem = loadDem(std::string(TERRACAST_SOURCE_DIR) +
+                                  "/data-samples/landfire-storm-lake-mt-utm12n-int16-small-nodata.tif");
+    const MapRaster soft = shadowMask(dem.grid, 250.0 * kDeg, 8.0 * kDeg, CellMethod::Bilinear, 2.0 * kDeg, 16);
+    int64_t partial = 0;
+    for (float v : soft.values)
+        if (!std::isnan(v)) {
+            REQUIRE(v >= 0.0f);
+            REQUIRE(v <= 1.0f);
+            partial += v > 0.0f && v < 1.0f;
+        }
+    CHECK(partial > 50);
+}
+
+TEST_CASE("Viewshed: a wall hides exactly what lies behind it; flat ground is all visible", "[tracer][maps]") {
+    // 41 x 21 vertices at 10 m on flat ground; a wall 50 m high along vertex column 20.
+    const int64_t w = 41, h = 21;
+    std::vector<float> z(size_t(w * h), 0.0f);
+    for (int64_t j = 0; j < h; ++j) z[size_t(j * w + 20)] = 50.0f;
+    const HeightGrid walled(w, h, 10.0, 10.0, z);
+    ViewshedSettings s;
+    s.observerXM = 55.0;
+    s.observerYM = 100.0;
+    s.observerHeightM = 2.0;
+    s.curvatureCoeff = 0.0;
+    const MapRaster vis = viewshed(walled, s);
+    for (int64_t j = 0; j < h; ++j)
+        for (int64_t i = 0; i < w; ++i) {
+            INFO("vertex " << i << ", " << j);
+            CHECK(vis.values[size_t(j * w + i)] == (i <= 20 ? 1.0f : 0.0f));
+        }
+    // The observer's own cell is visible.
+    CHECK(vis.values[size_t(10 * w + 5)] == 1.0f);
+    CHECK(vis.values[size_t(10 * w + 6)] == 1.0f);
+    // Flat ground with flat-earth settings: everything visible.
+    const HeightGrid flat(w, h, 10.0, 10.0, std::vector<float>(size_t(w * h), 100.0f));
+    const MapRaster all = viewshed(flat, s);
+    for (float v : all.values) CHECK(v == 1.0f);
+    // With curvature, far low targets on a large flat DEM drop below the horizon (a 2 m observer sees the
+    // ground to about 5 km); near ones stay visible.
+    const HeightGrid wide(401, 3, 50.0, 50.0, std::vector<float>(401 * 3, 0.0f));
+    ViewshedSettings c = s;
+    c.observerXM = 0.0;
+    c.observerYM = 50.0;
+    c.curvatureCoeff = 0.85714;
+    const MapRaster curved = viewshed(wide, c);
+    CHECK(curved.values[size_t(1 * 401 + 20)] == 1.0f);   // 1 km
+    CHECK(curved.values[size_t(1 * 401 + 400)] == 0.0f);  // 20 km
+    // An observer off the grid is refused.
+    ViewshedSettings off = s;
+    off.observerXM = -500.0;
+    CHECK_THROWS_AS(viewshed(flat, off), GridError);
+}
+
+TEST_CASE("Map view without shadows or sky equals Lambert shading of the analytic normals", "[tracer][maps]") {
+    const LoadedDem dem = loadDem(std::string(TERRACAST_SOURCE_DIR) +
+                                  "/data-samples/landfire-storm-lake-mt-utm12n-int16-small-nodata.tif");
+    const HeightGrid& g = dem.grid;
+    MapViewSettings s;
+    s.castShadows = false;
+    s.skySamples = 0;
+    s.sun = Sun{300.0, 40.0};
+    const Film film = renderMapView(g, s);
+    REQUIRE(film.width == g.cellsX());
+    REQUIRE(film.height == g.cellsY());
+    const glm::dvec3 toSun = s.sun.direction();
+    int64_t checked = 0;
+    for (int py = 0; py < film.height; ++py)
+        for (int px = 0; px < film.width; ++px) {
+            const int64_t i = px, j = g.cellsY() - 1 - py;
+            if (!g.cellValid(i, j)) {
+                CHECK(film.get(px, py).r == 0.0f);
+                continue;
+            }
+            // The bilinear patch's normal at the cell centre, from the corner heights.
+            const double h00 = g.at(i, j), h10 = g.at(i + 1, j), h01 = g.at(i, j + 1), h11 = g.at(i + 1, j + 1);
+            const double dhdx = 0.5 * ((h10 - h00) + (h11 - h01)) / g.cellSizeXM();
+            const double dhdy = 0.5 * ((h01 - h00) + (h11 - h10)) / g.cellSizeYM();
+            const glm::dvec3 n = glm::normalize(glm::dvec3(-dhdx, -dhdy, 1.0));
+            const double expected = 0.8 * (std::max(0.0, glm::dot(n, toSun)) + s.ambient);
+            REQUIRE(film.get(px, py).r == Approx(expected).epsilon(1e-4));
+            ++checked;
+        }
+    CHECK(checked > 10000);
+    // Cast shadows only darken, and sky visibility only darkens the ambient part.
+    MapViewSettings full = s;
+    full.castShadows = true;
+    full.skySamples = 8;
+    const Film shaded = renderMapView(g, full);
+    int64_t darker = 0;
+    for (size_t k = 0; k < film.rgb.size(); ++k) {
+        REQUIRE(shaded.rgb[k] <= film.rgb[k] + 1e-6f);
+        darker += shaded.rgb[k] < film.rgb[k] - 1e-3f;
+    }
+    CHECK(darker > 1000);
+}

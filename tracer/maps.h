@@ -1,0 +1,82 @@
+// Map products on the DEM's own grid: top-down shaded relief with cast shadows and sky visibility, sun
+// shadow masks, horizon angles and viewsheds. Rasters here have row 0 at the SOUTH, like HeightGrid.
+#pragma once
+
+#include "heightfield/height_grid.h"
+#include "heightfield/traversal.h"
+#include "tracer/terrain_renderer.h"
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace terracast {
+
+// The surface point above local (x, y), as the hit of a vertical ray: position, normal and error bound.
+std::optional<HeightFieldHit> surfacePointAt(const HeightGrid& grid, double xM, double yM, CellMethod method);
+
+// Unit direction for a compass azimuth (clockwise from north) and an elevation above the horizon, radians.
+glm::dvec3 directionFromAngles(double azimuthRad, double elevationRad);
+
+// True when the terrain blocks the direction `dir` from a surface point (ray spawned off the surface).
+bool blockedFrom(const HeightGrid& grid, const HeightFieldHit& at, const glm::dvec3& dir, CellMethod method);
+
+// The horizon elevation angle (radians) seen from a surface point towards an azimuth: the lowest elevation
+// at which the terrain no longer blocks the view, found by bisection to `toleranceRad` (a height field has
+// no overhangs, so blocked elevations form one interval from -90 degrees up). Returns -pi/2 when nothing
+// blocks even the lowest direction tested (just below the local tangent plane).
+double horizonAngleRad(const HeightGrid& grid, const HeightFieldHit& at, double azimuthRad, CellMethod method,
+                       double toleranceRad = 1e-7);
+
+struct MapRaster {
+    int64_t width = 0;
+    int64_t height = 0;
+    std::vector<float> values;     // row 0 south; NaN where the grid has no surface (nodata)
+};
+
+// Per vertex: 1 where the sun (a direction) is blocked by terrain, 0 where visible, NaN on nodata. With
+// `sunRadiusRad` > 0 the sun is a disc sampled by `samples` stratified directions and the value is the
+// blocked fraction.
+MapRaster shadowMask(const HeightGrid& grid, double azimuthRad, double elevationRad, CellMethod method,
+                     double sunRadiusRad = 0.0, int samples = 16, int threads = 0);
+
+// Per vertex: the horizon angle in degrees towards an azimuth; NaN on nodata.
+MapRaster horizonMap(const HeightGrid& grid, double azimuthRad, CellMethod method, int threads = 0);
+
+// Observer and target settings of a viewshed.
+struct ViewshedSettings {
+    double observerXM = 0.0;           // local metres
+    double observerYM = 0.0;
+    double observerHeightM = 1.7;      // above the terrain
+    double targetHeightM = 0.0;        // above the terrain at each vertex
+    double curvatureCoeff = 0.85714;   // as gdal_viewshed: 1 - refraction coefficient; 0 = flat earth
+    double earthRadiusM = 6378137.0;
+    CellMethod method = CellMethod::Bilinear;
+    int threads = 0;
+};
+
+// Per vertex: 1 when a target at targetHeightM above it is visible from the observer, 0 when hidden, NaN on
+// nodata. Earth curvature lowers terrain and target by coeff * d^2 / (2 R) at horizontal distance d from
+// the observer. Throws GridError when the observer is not over the grid's surface.
+MapRaster viewshed(const HeightGrid& grid, const ViewshedSettings& settings);
+
+// Settings of the top-down shaded relief.
+struct MapViewSettings {
+    double scale = 1.0;                // output pixels per cell along each axis
+    Sun sun;                           // the light
+    bool castShadows = true;           // ray-traced cast shadows
+    int skySamples = 16;               // hemisphere rays per pixel for sky visibility (0 = off, constant sky)
+    bool colourRamp = false;           // elevation colour ramp instead of grey
+    double hillshadeBlend = 0.0;       // 0..1: weight of a plain Lambert hillshade (no shadows, no sky)
+    float ambient = 0.25f;             // sky light weight
+    CellMethod method = CellMethod::Bilinear;
+    uint64_t seed = 1;                 // sky sampling seed
+    int threads = 0;
+};
+
+// A top-down orthographic picture: pixel (px, py) of the film (row 0 at the NORTH) looks straight down on
+// local (x0 + (px + 0.5) * cellX / scale, yTop - (py + 0.5) * cellY / scale), covering the cells'
+// footprint; at scale 1 pixel centres are cell centres. Pixels over nodata are black.
+Film renderMapView(const HeightGrid& grid, const MapViewSettings& settings);
+
+}  // namespace terracast
