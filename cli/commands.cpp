@@ -3,8 +3,11 @@
 #include "loaders/dem_loader.h"
 #include "loaders/errors.h"
 #include "loaders/image_io.h"
+#include "loaders/crs.h"
+#include "loaders/raster_writer.h"
 #include "tracer/accuracy.h"
 #include "tracer/compare.h"
+#include "tracer/maps.h"
 #include "tracer/terrain_renderer.h"
 
 #include <fmt/core.h>
@@ -18,6 +21,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <sstream>
 
 namespace terracast {
@@ -95,18 +99,56 @@ private:
     std::chrono::steady_clock::time_point last_{};
 };
 
-void checkOutputPath(const std::string& output, const std::string& input) {
+// Checks an output path before any work: its extension is one of `allowed`, it is not the input DEM, and
+// its folder exists.
+void checkOutputPath(const std::string& output, const std::string& input,
+                     std::initializer_list<const char*> allowed = {".png", ".exr"}) {
     namespace fs = std::filesystem;
     std::string ext = fs::path(output).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    if (ext != ".png" && ext != ".exr")
-        throw InputError(fmt::format("{}: unsupported output format '{}' (expected .png or .exr)", output, ext));
+    bool ok = false;
+    std::string expected;
+    for (const char* a : allowed) {
+        ok = ok || ext == a;
+        expected += (expected.empty() ? "" : " or ") + std::string(a);
+    }
+    if (!ok) throw InputError(fmt::format("{}: unsupported output format '{}' (expected {})", output, ext, expected));
     std::error_code ec;
     if (fs::exists(output, ec) && fs::exists(input, ec) && fs::equivalent(output, input, ec))
         throw InputError(fmt::format("{}: output path is the input DEM; refusing to overwrite it", output));
     const fs::path dir = fs::path(output).parent_path();
     if (!dir.empty() && !fs::is_directory(dir, ec))
         throw InputError(fmt::format("{}: output folder '{}' does not exist", output, dir.string()));
+}
+
+// The direct cell method behind a surface method; the map commands trace the grid directly.
+CellMethod directMethod(SurfaceMethod m, const char* command) {
+    switch (m) {
+    case SurfaceMethod::Bilinear: return CellMethod::Bilinear;
+    case SurfaceMethod::BilinearDouble: return CellMethod::BilinearDouble;
+    case SurfaceMethod::Triangles: return CellMethod::Triangles;
+    case SurfaceMethod::Nearest: return CellMethod::Nearest;
+    case SurfaceMethod::Reference: return CellMethod::Reference;
+    default: break;
+    }
+    throw InputError(fmt::format("--method: {} traces the grid directly; expected bilinear, bilinear-double, "
+                                 "triangles, nearest or reference, found '{}'",
+                                 command, surfaceMethodName(m)));
+}
+
+// Writes a per-vertex map raster as a Float32 GeoTIFF on the DEM's own grid (NaN becomes nodata -9999).
+void writeVertexRaster(const std::string& path, const LoadedDem& dem, const MapRaster& r, RasterType type,
+                       double noData) {
+    GridRaster out;
+    out.width = r.width;
+    out.height = r.height;
+    out.values = r.values;
+    out.hasNoData = true;
+    out.noDataValue = noData;
+    for (float& v : out.values)
+        if (std::isnan(v)) v = float(noData);
+    writeGeoTiff(path, out, type, dem.geo, dem.geo.originX, dem.geo.originY, sourcePixelSizeX(dem.geo),
+                 sourcePixelSizeY(dem.geo));
 }
 
 // Writes a text file through a temporary file in the same folder and a rename.
@@ -261,8 +303,68 @@ int runInfo(const InfoOptions& options) {
     });
 }
 
+namespace {
+
+// `render --view map`: the top-down shaded relief, as a GeoTIFF on the DEM's georeference or a PNG.
+int renderMap(const RenderOptions& o) {
+    checkOutputPath(o.output, o.dem.path, {".tif", ".tiff", ".png"});
+    checkViewValues(o.exaggeration, o.sunElevationDeg);
+    if (!(o.scale > 0.0 && o.scale <= 16.0)) throw InputError(fmt::format("--scale: expected (0, 16], found {}", o.scale));
+    if (!(o.hillshadeBlend >= 0.0 && o.hillshadeBlend <= 1.0))
+        throw InputError(fmt::format("--hillshade-blend: expected 0..1, found {}", o.hillshadeBlend));
+    if (o.skySamples < 0 || o.skySamples > 4096)
+        throw InputError(fmt::format("--sky-samples: expected 0..4096, found {}", o.skySamples));
+    LoadedDem dem = load(o.dem);
+    TerrainRenderSettings view = makeView(dem.grid, 16, 16, o.sunAzimuthDeg, o.sunElevationDeg, o.exaggeration, "", o.threads);
+    MapViewSettings m;
+    m.scale = o.scale;
+    m.sun = view.sun;
+    m.castShadows = o.castShadows;
+    m.skySamples = o.skySamples;
+    m.colourRamp = o.colourRamp;
+    m.hillshadeBlend = o.hillshadeBlend;
+    m.method = directMethod(o.method, "--view map");
+    m.threads = o.threads;
+    const auto start = std::chrono::steady_clock::now();
+    const Film film = renderMapView(dem.grid, m);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::string ext = std::filesystem::path(o.output).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext == ".png") {
+        writeImage(o.output, RgbImage{film.width, film.height, film.rgb});
+    } else {
+        // 8-bit sRGB in three bands, rows south first as the writer expects; pixel centres on the DEM's CRS.
+        GridRaster out;
+        out.width = film.width;
+        out.height = film.height;
+        out.bands = 3;
+        out.values.resize(size_t(film.width) * size_t(film.height) * 3);
+        for (int y = 0; y < film.height; ++y)
+            for (int x = 0; x < film.width; ++x) {
+                const glm::vec3 c = film.get(x, film.height - 1 - y);
+                for (int b = 0; b < 3; ++b) {
+                    const float v = std::clamp(c[b], 0.0f, 1.0f);
+                    const float enc = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+                    out.values[(size_t(y) * size_t(film.width) + size_t(x)) * 3 + size_t(b)] = 255.0f * enc;
+                }
+            }
+        const double pxX = dem.grid.extentXM() / film.width / dem.grid.cellSizeXM() * sourcePixelSizeX(dem.geo);
+        const double pxY = dem.grid.extentYM() / film.height / dem.grid.cellSizeYM() * sourcePixelSizeY(dem.geo);
+        writeGeoTiff(o.output, out, RasterType::Byte, dem.geo, dem.geo.originX + 0.5 * pxX, dem.geo.originY + 0.5 * pxY,
+                     pxX, pxY);
+    }
+    if (!o.quiet)
+        fmt::print(stderr, "terracast: map {} ({}x{}, {}) in {:.2f} s; shadows {}, {} sky rays per pixel\n", o.output,
+                   film.width, film.height, cellMethodName(m.method), seconds, m.castShadows ? "on" : "off",
+                   m.skySamples);
+    return 0;
+}
+
+}  // namespace
+
 int runRender(const RenderOptions& o) {
     return guarded([&] {
+        if (o.mapView) return renderMap(o);
         checkOutputPath(o.output, o.dem.path);
         checkViewValues(o.exaggeration, o.sunElevationDeg);
         LoadedDem dem = load(o.dem);
@@ -418,6 +520,62 @@ int runCompare(const CompareCommandOptions& o) {
             j += "\n ]}\n";
             writeTextAtomically(o.json, j);
         }
+        return 0;
+    });
+}
+
+int runShadow(const ShadowOptions& o) {
+    return guarded([&] {
+        checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
+        checkViewValues(1.0, o.sunElevationDeg);
+        if (!(o.sunSizeDeg >= 0.0 && o.sunSizeDeg < 30.0))
+            throw InputError(fmt::format("--sun-size: expected degrees in [0, 30), found {}", o.sunSizeDeg));
+        const CellMethod method = directMethod(o.method, "shadow");
+        const LoadedDem dem = load(o.dem);
+        constexpr double kDeg = 3.14159265358979323846 / 180.0;
+        const MapRaster mask = shadowMask(dem.grid, o.sunAzimuthDeg * kDeg, o.sunElevationDeg * kDeg, method,
+                                          0.5 * o.sunSizeDeg * kDeg, 16, o.threads);
+        writeVertexRaster(o.output, dem, mask, RasterType::Float32, -9999.0);
+        return 0;
+    });
+}
+
+int runHorizon(const HorizonOptions& o) {
+    return guarded([&] {
+        checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
+        const CellMethod method = directMethod(o.method, "horizon");
+        const LoadedDem dem = load(o.dem);
+        constexpr double kDeg = 3.14159265358979323846 / 180.0;
+        const MapRaster horizon = horizonMap(dem.grid, o.azimuthDeg * kDeg, method, o.threads);
+        writeVertexRaster(o.output, dem, horizon, RasterType::Float32, -9999.0);
+        return 0;
+    });
+}
+
+int runViewshed(const ViewshedOptions& o) {
+    return guarded([&] {
+        checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
+        if (!std::isfinite(o.observerHeightM) || !std::isfinite(o.targetHeightM) || !std::isfinite(o.curvatureCoeff))
+            throw InputError("--observer-height, --target-height and --curvature-coeff must be finite numbers");
+        ViewshedSettings s;
+        s.method = directMethod(o.method, "viewshed");
+        const LoadedDem dem = load(o.dem);
+        double x = o.observerX, y = o.observerY;
+        if (o.lonLat) lonLatToSource(dem.geo, o.observerX, o.observerY, x, y);
+        sourceToLocal(dem, x, y, s.observerXM, s.observerYM);
+        if (s.observerXM < 0.0 || s.observerYM < 0.0 || s.observerXM > dem.grid.extentXM() ||
+            s.observerYM > dem.grid.extentYM())
+            throw InputError(fmt::format("--observer: {}, {} lies outside the DEM (x {:.3f} .. {:.3f}, y {:.3f} .. {:.3f} "
+                                         "in its CRS)",
+                                         o.observerX, o.observerY, dem.geo.originX,
+                                         dem.geo.originX + dem.grid.cellsX() * sourcePixelSizeX(dem.geo),
+                                         dem.geo.originY, dem.geo.originY + dem.grid.cellsY() * sourcePixelSizeY(dem.geo)));
+        s.observerHeightM = o.observerHeightM;
+        s.targetHeightM = o.targetHeightM;
+        s.curvatureCoeff = o.curvatureCoeff;
+        s.threads = o.threads;
+        const MapRaster vis = viewshed(dem.grid, s);
+        writeVertexRaster(o.output, dem, vis, RasterType::Byte, 255.0);
         return 0;
     });
 }

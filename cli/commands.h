@@ -38,8 +38,51 @@ struct RenderOptions {
     SurfaceMethod method = SurfaceMethod::Bilinear;  // cell intersector, or Embree
     int threads = 0;                           // 0 = all cores
     bool quiet = false;                        // no progress or summary on stderr
+    bool mapView = false;                      // top-down orthographic map on the DEM's grid (--view map)
+    double scale = 1.0;                        // map view: output pixels per DEM cell along each axis
+    bool castShadows = true;                   // map view: ray-traced cast shadows
+    int skySamples = 16;                       // map view: hemisphere rays per pixel for sky visibility
+    bool colourRamp = false;                   // map view: elevation colours instead of grey
+    double hillshadeBlend = 0.0;               // map view: weight of a plain hillshade, 0..1
 };
 int runRender(const RenderOptions& options);
+
+// `terracast shadow DEM --sun AZ,EL -o mask.tif`
+struct ShadowOptions {
+    DemOptions dem;
+    std::string output;                // GeoTIFF on the DEM's grid
+    double sunAzimuthDeg = 315.0;      // clockwise from north
+    double sunElevationDeg = 35.0;     // above the horizon
+    double sunSizeDeg = 0.0;           // angular diameter; 0 = a point (mask of 0/1), else the blocked fraction
+    SurfaceMethod method = SurfaceMethod::Bilinear;
+    int threads = 0;
+};
+int runShadow(const ShadowOptions& options);
+
+// `terracast horizon DEM --azimuth AZ -o horizon.tif`
+struct HorizonOptions {
+    DemOptions dem;
+    std::string output;                // GeoTIFF on the DEM's grid, degrees
+    double azimuthDeg = 180.0;         // clockwise from north
+    SurfaceMethod method = SurfaceMethod::Bilinear;
+    int threads = 0;
+};
+int runHorizon(const HorizonOptions& options);
+
+// `terracast viewshed DEM --observer X,Y -o vis.tif`
+struct ViewshedOptions {
+    DemOptions dem;
+    std::string output;                // GeoTIFF on the DEM's grid: 1 visible, 0 hidden, 255 nodata
+    double observerX = 0.0;            // in the DEM's CRS (or longitude with lonLat)
+    double observerY = 0.0;            // in the DEM's CRS (or latitude with lonLat)
+    bool lonLat = false;               // observer given as WGS84 longitude, latitude
+    double observerHeightM = 1.7;      // above the terrain
+    double targetHeightM = 0.0;        // above the terrain
+    double curvatureCoeff = 0.85714;   // as gdal_viewshed's -cc; 0 = flat earth
+    SurfaceMethod method = SurfaceMethod::Bilinear;
+    int threads = 0;
+};
+int runViewshed(const ViewshedOptions& options);
 
 // `terracast accuracy DEM`
 struct AccuracyCommandOptions {

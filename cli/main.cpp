@@ -63,6 +63,52 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--threads", render.threads, "Worker threads, 0 = all cores (default 0)")
         ->check(CLI::NonNegativeNumber);
     renderCmd->add_flag("-q,--quiet", render.quiet, "No progress or summary on stderr");
+    std::string view = "perspective", colour = "grey";
+    bool noShadows = false;
+    renderCmd->add_option("--view", view,
+                          "perspective (default), or map: top-down on the DEM's grid, written as GeoTIFF (.tif) or PNG");
+    renderCmd->add_option("--scale", render.scale, "Map view: output pixels per DEM cell (default 1)");
+    renderCmd->add_flag("--no-shadows", noShadows, "Map view: no cast shadows");
+    renderCmd->add_option("--sky-samples", render.skySamples,
+                          "Map view: hemisphere rays per pixel for sky visibility, 0 = off (default 16)");
+    renderCmd->add_option("--colour", colour, "Map view: grey (default) or ramp (by elevation)");
+    renderCmd->add_option("--hillshade-blend", render.hillshadeBlend,
+                          "Map view: weight of a plain hillshade without shadows or sky, 0..1 (default 0)");
+
+    ShadowOptions shadow;
+    std::string shadowSun = "315,35", shadowMethod = "bilinear";
+    auto* shadowCmd = app.add_subcommand("shadow", "Sun shadow mask per DEM vertex (1 blocked, 0 lit), as GeoTIFF");
+    addDemOptions(*shadowCmd, shadow.dem);
+    shadowCmd->add_option("-o,--output", shadow.output, "Output GeoTIFF (.tif) on the DEM's grid")->required();
+    shadowCmd->add_option("--sun", shadowSun, "Sun azimuth,elevation in degrees (default 315,35)");
+    shadowCmd->add_option("--sun-size", shadow.sunSizeDeg,
+                          "Sun's angular diameter in degrees; > 0 gives the blocked fraction (default 0: a point)");
+    shadowCmd->add_option("--method", shadowMethod, "Direct cell method (default bilinear)");
+    shadowCmd->add_option("--threads", shadow.threads, "Worker threads, 0 = all cores")->check(CLI::NonNegativeNumber);
+
+    HorizonOptions horizon;
+    std::string horizonMethod = "bilinear";
+    auto* horizonCmd = app.add_subcommand("horizon", "Horizon elevation angle in degrees per DEM vertex towards an azimuth");
+    addDemOptions(*horizonCmd, horizon.dem);
+    horizonCmd->add_option("-o,--output", horizon.output, "Output GeoTIFF (.tif) on the DEM's grid")->required();
+    horizonCmd->add_option("--azimuth", horizon.azimuthDeg, "Azimuth in degrees clockwise from north")->required();
+    horizonCmd->add_option("--method", horizonMethod, "Direct cell method (default bilinear)");
+    horizonCmd->add_option("--threads", horizon.threads, "Worker threads, 0 = all cores")->check(CLI::NonNegativeNumber);
+
+    ViewshedOptions viewshedOpts;
+    std::string observer, viewshedMethod = "bilinear";
+    auto* viewshedCmd = app.add_subcommand("viewshed", "Visibility from an observer per DEM vertex (1 visible, 0 hidden)");
+    addDemOptions(*viewshedCmd, viewshedOpts.dem);
+    viewshedCmd->add_option("-o,--output", viewshedOpts.output, "Output GeoTIFF (.tif) on the DEM's grid")->required();
+    viewshedCmd->add_option("--observer", observer, "Observer X,Y in the DEM's CRS (lon,lat with --lonlat)")->required();
+    viewshedCmd->add_flag("--lonlat", viewshedOpts.lonLat, "The observer is WGS84 longitude,latitude");
+    viewshedCmd->add_option("--observer-height", viewshedOpts.observerHeightM, "Metres above the terrain (default 1.7)");
+    viewshedCmd->add_option("--target-height", viewshedOpts.targetHeightM, "Metres above the terrain (default 0)");
+    viewshedCmd->add_option("--curvature-coeff", viewshedOpts.curvatureCoeff,
+                            "Earth curvature and refraction, as gdal_viewshed -cc (default 0.85714; 0 = flat earth)");
+    viewshedCmd->add_option("--method", viewshedMethod, "Direct cell method (default bilinear)");
+    viewshedCmd->add_option("--threads", viewshedOpts.threads, "Worker threads, 0 = all cores")
+        ->check(CLI::NonNegativeNumber);
 
     AccuracyCommandOptions accuracy;
     auto* accuracyCmd = app.add_subcommand(
@@ -103,7 +149,36 @@ int main(int argc, char** argv) {
         return 2;
     }
 
+    auto parseMethodInto = [](const std::string& name, SurfaceMethod& out) {
+        const auto m = parseSurfaceMethod(name);
+        if (!m) {
+            fmt::print(stderr, "terracast: error: --method: expected one of {}, found '{}'\n", surfaceMethodList(), name);
+            return false;
+        }
+        out = *m;
+        return true;
+    };
     if (*infoCmd) return runInfo(info);
+    if (*shadowCmd) {
+        if (!parsePair(shadowSun, shadow.sunAzimuthDeg, shadow.sunElevationDeg)) {
+            fmt::print(stderr, "terracast: error: --sun: expected AZ,EL in degrees, found '{}'\n", shadowSun);
+            return 2;
+        }
+        if (!parseMethodInto(shadowMethod, shadow.method)) return 2;
+        return runShadow(shadow);
+    }
+    if (*horizonCmd) {
+        if (!parseMethodInto(horizonMethod, horizon.method)) return 2;
+        return runHorizon(horizon);
+    }
+    if (*viewshedCmd) {
+        if (!parsePair(observer, viewshedOpts.observerX, viewshedOpts.observerY)) {
+            fmt::print(stderr, "terracast: error: --observer: expected X,Y, found '{}'\n", observer);
+            return 2;
+        }
+        if (!parseMethodInto(viewshedMethod, viewshedOpts.method)) return 2;
+        return runViewshed(viewshedOpts);
+    }
     if (*accuracyCmd) return runAccuracy(accuracy);
     if (*compareCmd) {
         if (!parseViewOptions(compareSize, compareSun, compare.width, compare.height, compare.sunAzimuthDeg,
@@ -137,6 +212,17 @@ int main(int argc, char** argv) {
             return 2;
         }
         render.method = *m;
+        if (view != "perspective" && view != "map") {
+            fmt::print(stderr, "terracast: error: --view: expected perspective or map, found '{}'\n", view);
+            return 2;
+        }
+        if (colour != "grey" && colour != "ramp") {
+            fmt::print(stderr, "terracast: error: --colour: expected grey or ramp, found '{}'\n", colour);
+            return 2;
+        }
+        render.mapView = view == "map";
+        render.castShadows = !noShadows;
+        render.colourRamp = colour == "ramp";
         return runRender(render);
     }
     return 2;

@@ -1,0 +1,15 @@
+// Coordinates between WGS84 longitude/latitude, a DEM's source CRS and the grid's local metres.
+#pragma once
+
+#include "loaders/dem_loader.h"
+
+namespace terracast {
+
+// Converts WGS84 (lon, lat) in degrees to the DEM's source CRS. Throws InputError when the DEM has no CRS
+// or the transformation fails.
+void lonLatToSource(const GeoReference& geo, double lonDeg, double latDeg, double& x, double& y);
+
+// Source-CRS coordinates to the grid's local metres (x east, y north, origin at the south-west sample).
+void sourceToLocal(const LoadedDem& dem, double x, double y, double& xM, double& yM);
+
+}  // namespace terracast

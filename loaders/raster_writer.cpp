@@ -1,0 +1,230 @@
+// Writing rasters on a DEM's grid as DEFLATE-compressed GeoTIFF through GDAL. Rows are written north-up
+// (file row 0 is the northmost raster row) with a pixel-is-area geotransform whose pixel centres fall on the
+// grid's vertices, so the file overlays the source DEM exactly.
+#include "loaders/raster_writer.h"
+
+#include "loaders/errors.h"
+
+#include <cpl_error.h>
+#include <cpl_string.h>
+#include <fmt/format.h>
+#include <gdal.h>
+#include <gdal_priv.h>
+#include <ogr_spatialref.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <mutex>
+#include <stdexcept>
+#include <type_traits>
+
+namespace terracast {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string lowerExtension(const std::string& path) {
+    std::string ext = fs::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return ext;
+}
+
+// The first line of a library's error message, without trailing blanks.
+std::string firstLine(const std::string& message) {
+    std::string line = message.substr(0, message.find('\n'));
+    while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
+    return line;
+}
+
+// Registers GDAL's drivers once per process.
+void registerGdalDrivers() {
+    static std::once_flag once;
+    std::call_once(once, [] { GDALAllRegister(); });
+}
+
+// Keeps GDAL from printing on this thread while it lives; failures reach the caller as exceptions instead.
+class QuietGdalErrors {
+public:
+    QuietGdalErrors() {
+        CPLPushErrorHandler(CPLQuietErrorHandler);
+        CPLErrorReset();
+    }
+    ~QuietGdalErrors() { CPLPopErrorHandler(); }
+    QuietGdalErrors(const QuietGdalErrors&) = delete;
+    QuietGdalErrors& operator=(const QuietGdalErrors&) = delete;
+};
+
+// Removes the file at `path` when destroyed, unless released.
+class TemporaryFile {
+public:
+    explicit TemporaryFile(fs::path path) : path_(std::move(path)) {}
+    ~TemporaryFile() {
+        std::error_code ignored;
+        if (!released_) fs::remove(path_, ignored);
+    }
+    TemporaryFile(const TemporaryFile&) = delete;
+    TemporaryFile& operator=(const TemporaryFile&) = delete;
+    const fs::path& path() const { return path_; }
+    void release() { released_ = true; }
+
+private:
+    fs::path path_;
+    bool released_ = false;
+};
+
+// A Byte sample: rounded to the nearest integer and clamped to 0..255 (NaN becomes 0).
+uint8_t toByte(float value) {
+    if (!(value > 0.0f)) return 0;
+    if (value >= 255.0f) return 255;
+    return static_cast<uint8_t>(std::lround(value));
+}
+
+// Converts raster rows [row0, row0 + rows) of file order (north-up) into `strip`, band-interleaved by pixel.
+template <typename Sample>
+void fillStrip(const GridRaster& raster, int64_t fileRow0, int64_t rows, std::vector<Sample>& strip) {
+    const auto rowValues = static_cast<size_t>(raster.width) * static_cast<size_t>(raster.bands);
+    for (int64_t r = 0; r < rows; ++r) {
+        const int64_t j = raster.height - 1 - (fileRow0 + r);  // raster row 0 is the southmost
+        const float* source = raster.values.data() + static_cast<size_t>(j) * rowValues;
+        Sample* target = strip.data() + static_cast<size_t>(r) * rowValues;
+        for (size_t k = 0; k < rowValues; ++k) {
+            if constexpr (std::is_same_v<Sample, uint8_t>)
+                target[k] = toByte(source[k]);
+            else
+                target[k] = source[k];
+        }
+    }
+}
+
+// Writes every row of `raster` into `dataset`, a strip of rows at a time. Returns false on a GDAL failure.
+template <typename Sample>
+bool writeRows(GDALDataset& dataset, const GridRaster& raster, GDALDataType type) {
+    const int64_t rowValues = raster.width * raster.bands;
+    const int64_t rowsPerStrip = std::max<int64_t>(1, (int64_t{1} << 22) / (rowValues * int64_t{sizeof(Sample)}));
+    std::vector<Sample> strip(static_cast<size_t>(std::min(rowsPerStrip, raster.height) * rowValues));
+    const auto pixelSpace = static_cast<GSpacing>(sizeof(Sample)) * raster.bands;
+    for (int64_t row0 = 0; row0 < raster.height; row0 += rowsPerStrip) {
+        const int64_t rows = std::min(rowsPerStrip, raster.height - row0);
+        fillStrip(raster, row0, rows, strip);
+        if (dataset.RasterIO(GF_Write, 0, static_cast<int>(row0), static_cast<int>(raster.width),
+                             static_cast<int>(rows), strip.data(), static_cast<int>(raster.width),
+                             static_cast<int>(rows), type, raster.bands, nullptr, pixelSpace,
+                             pixelSpace * raster.width, static_cast<GSpacing>(sizeof(Sample)), nullptr) != CE_None)
+            return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+void writeGeoTiff(const std::string& path, const GridRaster& raster, RasterType type, const GeoReference& geo,
+                  double originX, double originY, double pixelSizeX, double pixelSizeY) {
+    if (raster.width < 1 || raster.height < 1 || raster.bands < 1 ||
+        raster.values.size() != static_cast<size_t>(raster.width) * static_cast<size_t>(raster.height) *
+                                    static_cast<size_t>(raster.bands))
+        throw std::invalid_argument(fmt::format("writeGeoTiff: {} x {} raster with {} bands holds {} values",
+                                                raster.width, raster.height, raster.bands, raster.values.size()));
+    if (raster.width > INT32_MAX || raster.height > INT32_MAX || raster.bands > 65535)
+        throw std::invalid_argument(fmt::format("writeGeoTiff: {} x {} raster with {} bands is too large for GDAL",
+                                                raster.width, raster.height, raster.bands));
+    if (!(pixelSizeX > 0.0) || !(pixelSizeY > 0.0) || !std::isfinite(pixelSizeX) || !std::isfinite(pixelSizeY) ||
+        !std::isfinite(originX) || !std::isfinite(originY))
+        throw std::invalid_argument(fmt::format("writeGeoTiff: origin ({}, {}) and pixel size {} x {} must be "
+                                                "finite, the pixel size positive",
+                                                originX, originY, pixelSizeX, pixelSizeY));
+
+    const std::string ext = lowerExtension(path);
+    if (ext != ".tif" && ext != ".tiff")
+        throw InputError(fmt::format("{}: unsupported output format '{}' (expected .tif)", path, ext));
+
+    const fs::path target(path);
+    const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+    std::error_code ec;
+    if (!fs::is_directory(folder, ec))
+        throw InputError(fmt::format("{}: folder '{}' does not exist", path, folder.string()));
+    if (::access(folder.c_str(), W_OK) != 0)
+        throw InputError(fmt::format("{}: folder '{}' is not writable", path, folder.string()));
+
+    registerGdalDrivers();
+    QuietGdalErrors quiet;
+    auto fail = [&](const std::string& what) {
+        const std::string reason = firstLine(CPLGetLastErrorMsg());
+        return std::runtime_error(fmt::format("{}: {}{}", path, what, reason.empty() ? "" : " (" + reason + ")"));
+    };
+
+    OGRSpatialReference srs;
+    const bool hasCrs = geo.georeferenced && !geo.crsWkt.empty();
+    if (hasCrs) {
+        srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+        if (srs.importFromWkt(geo.crsWkt.c_str()) != OGRERR_NONE) throw fail("cannot interpret the CRS");
+    }
+
+    GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GTiff");
+    if (driver == nullptr) throw fail("GDAL has no GTiff driver");
+
+    // Declared before the dataset, so that the dataset is closed before the file is removed.
+    TemporaryFile temporary(folder / fmt::format(".{}.tmp{}{}", target.filename().string(), getpid(), ext));
+    const GDALDataType gdalType = type == RasterType::Byte ? GDT_Byte : GDT_Float32;
+    CPLStringList options;
+    options.SetNameValue("COMPRESS", "DEFLATE");
+    options.SetNameValue("BIGTIFF", "IF_SAFER");
+    if (raster.bands > 1) options.SetNameValue("INTERLEAVE", "PIXEL");
+    GDALDataset* dataset = driver->Create(temporary.path().c_str(), static_cast<int>(raster.width),
+                                          static_cast<int>(raster.height), raster.bands, gdalType, options.List());
+    if (dataset == nullptr) throw fail("cannot create GeoTIFF");
+    bool ok = true;
+    std::string what;
+    // Pixel-is-area geotransform: the centre of raster sample (i, j) lands on (originX + i * pixelSizeX,
+    // originY + j * pixelSizeY); file row 0 is raster row height - 1.
+    double gt[6] = {originX - 0.5 * pixelSizeX,
+                    pixelSizeX,
+                    0.0,
+                    originY + (static_cast<double>(raster.height) - 0.5) * pixelSizeY,
+                    0.0,
+                    -pixelSizeY};
+    if (dataset->SetGeoTransform(gt) != CE_None) {
+        ok = false;
+        what = "cannot set the geotransform";
+    }
+    if (ok && hasCrs && dataset->SetSpatialRef(&srs) != CE_None) {
+        ok = false;
+        what = "cannot set the CRS";
+    }
+    for (int b = 1; ok && raster.hasNoData && b <= raster.bands; ++b) {
+        if (dataset->GetRasterBand(b)->SetNoDataValue(raster.noDataValue) != CE_None) {
+            ok = false;
+            what = fmt::format("cannot set nodata value {} on band {}", raster.noDataValue, b);
+        }
+    }
+    if (ok) {
+        ok = type == RasterType::Byte ? writeRows<uint8_t>(*dataset, raster, gdalType)
+                                      : writeRows<float>(*dataset, raster, gdalType);
+        if (!ok) what = "cannot write pixels";
+    }
+    if (!ok) {
+        const std::runtime_error error = fail(what);  // GDAL's message before closing can replace it
+        GDALClose(dataset);
+        throw error;
+    }
+    // GDAL 3.6's FlushCache and GDALClose return nothing: a failed flush shows only as an error raised here.
+    CPLErrorReset();
+    dataset->FlushCache(false);
+    GDALClose(dataset);
+    if (CPLGetLastErrorType() >= CE_Failure) throw fail("cannot write GeoTIFF");
+
+    fs::rename(temporary.path(), target, ec);
+    if (ec) throw std::runtime_error(fmt::format("{}: cannot rename '{}' ({})", path, temporary.path().string(),
+                                                 ec.message()));
+    temporary.release();
+}
+
+double sourcePixelSizeX(const GeoReference& geo) { return geo.georeferenced ? std::abs(geo.geoTransform[1]) : 1.0; }
+
+double sourcePixelSizeY(const GeoReference& geo) { return geo.georeferenced ? std::abs(geo.geoTransform[5]) : 1.0; }
+
+}  // namespace terracast
