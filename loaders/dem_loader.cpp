@@ -5,6 +5,7 @@
 // shifts the origin half a pixel so that centres fall on whole degrees). Geographic rasters are mapped to
 // metres on the tangent plane at their centre latitude, using the WGS84 meridional and prime-vertical radii
 // of curvature (Snyder 1987, "Map Projections: A Working Manual", USGS Professional Paper 1395).
+#include "loaders/loader_support.h"
 #include "loaders/dem_loader.h"
 
 #include "loaders/errors.h"
@@ -27,6 +28,8 @@
 namespace terracast {
 namespace {
 
+using namespace loader_support;
+
 constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
 constexpr double kMaxGridBytes = 64.0 * kGiB;                        // refuse rasters needing more than this
 constexpr double kBytesPerVertex = sizeof(float) + sizeof(uint8_t);  // height + nodata flag
@@ -39,12 +42,6 @@ std::string toLower(std::string s) {
     return s;
 }
 
-// The first line of a library's error message, without trailing blanks.
-std::string firstLine(const std::string& message) {
-    std::string line = message.substr(0, message.find('\n'));
-    while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
-    return line;
-}
 
 // Rejects missing files, folders and empty files before a reader sees them, so the message says what is wrong.
 void checkIsFile(const std::string& path) {
@@ -88,23 +85,7 @@ HeightGrid makeGrid(const std::string& path, int64_t width, int64_t height, doub
 
 // ---- GDAL ----
 
-// Registers GDAL's drivers once per process.
-void registerGdalDrivers() {
-    static std::once_flag once;
-    std::call_once(once, [] { GDALAllRegister(); });
-}
 
-// Keeps GDAL from printing on this thread while it lives; failures reach the user as InputError instead.
-class QuietGdalErrors {
-public:
-    QuietGdalErrors() {
-        CPLPushErrorHandler(CPLQuietErrorHandler);
-        CPLErrorReset();
-    }
-    ~QuietGdalErrors() { CPLPopErrorHandler(); }
-    QuietGdalErrors(const QuietGdalErrors&) = delete;
-    QuietGdalErrors& operator=(const QuietGdalErrors&) = delete;
-};
 
 // GDAL's last error on this thread as " (message)", or "" when it gave none.
 std::string gdalReason() {

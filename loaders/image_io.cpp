@@ -1,5 +1,6 @@
 // Writing and reading pictures through OpenImageIO. PNG holds 8-bit sRGB (transfer function of
 // IEC 61966-2-1); EXR holds linear half floats.
+#include "loaders/loader_support.h"
 #include "loaders/image_io.h"
 
 #include "loaders/errors.h"
@@ -18,21 +19,11 @@
 namespace terracast {
 namespace {
 
+using namespace loader_support;
+
 namespace fs = std::filesystem;
 
-std::string lowerExtension(const std::string& path) {
-    std::string ext = fs::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return ext;
-}
 
-// The first line of a library's error message, without trailing blanks.
-std::string firstLine(const std::string& message) {
-    std::string line = message.substr(0, message.find('\n'));
-    while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
-    return line;
-}
 
 // Encodes a linear value as sRGB in [0, 1]; values outside [0, 1] (and NaN) are clamped first.
 float srgbFromLinear(float linear) {
@@ -46,23 +37,6 @@ float linearFromSrgb(float encoded) {
     return encoded <= 0.04045f ? encoded / 12.92f : std::pow((encoded + 0.055f) / 1.055f, 2.4f);
 }
 
-// Removes the file at `path` when destroyed, unless released.
-class TemporaryFile {
-public:
-    explicit TemporaryFile(fs::path path) : path_(std::move(path)) {}
-    ~TemporaryFile() {
-        std::error_code ignored;
-        if (!released_) fs::remove(path_, ignored);
-    }
-    TemporaryFile(const TemporaryFile&) = delete;
-    TemporaryFile& operator=(const TemporaryFile&) = delete;
-    const fs::path& path() const { return path_; }
-    void release() { released_ = true; }
-
-private:
-    fs::path path_;
-    bool released_ = false;
-};
 
 }  // namespace
 

@@ -1,6 +1,7 @@
 // Writing rasters on a DEM's grid as DEFLATE-compressed GeoTIFF through GDAL. Rows are written north-up
 // (file row 0 is the northmost raster row) with a pixel-is-area geotransform whose pixel centres fall on the
 // grid's vertices, so the file overlays the source DEM exactly.
+#include "loaders/loader_support.h"
 #include "loaders/raster_writer.h"
 
 #include "loaders/errors.h"
@@ -25,57 +26,14 @@
 namespace terracast {
 namespace {
 
+using namespace loader_support;
+
 namespace fs = std::filesystem;
 
-std::string lowerExtension(const std::string& path) {
-    std::string ext = fs::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return ext;
-}
 
-// The first line of a library's error message, without trailing blanks.
-std::string firstLine(const std::string& message) {
-    std::string line = message.substr(0, message.find('\n'));
-    while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
-    return line;
-}
 
-// Registers GDAL's drivers once per process.
-void registerGdalDrivers() {
-    static std::once_flag once;
-    std::call_once(once, [] { GDALAllRegister(); });
-}
 
-// Keeps GDAL from printing on this thread while it lives; failures reach the caller as exceptions instead.
-class QuietGdalErrors {
-public:
-    QuietGdalErrors() {
-        CPLPushErrorHandler(CPLQuietErrorHandler);
-        CPLErrorReset();
-    }
-    ~QuietGdalErrors() { CPLPopErrorHandler(); }
-    QuietGdalErrors(const QuietGdalErrors&) = delete;
-    QuietGdalErrors& operator=(const QuietGdalErrors&) = delete;
-};
 
-// Removes the file at `path` when destroyed, unless released.
-class TemporaryFile {
-public:
-    explicit TemporaryFile(fs::path path) : path_(std::move(path)) {}
-    ~TemporaryFile() {
-        std::error_code ignored;
-        if (!released_) fs::remove(path_, ignored);
-    }
-    TemporaryFile(const TemporaryFile&) = delete;
-    TemporaryFile& operator=(const TemporaryFile&) = delete;
-    const fs::path& path() const { return path_; }
-    void release() { released_ = true; }
-
-private:
-    fs::path path_;
-    bool released_ = false;
-};
 
 // A Byte sample: rounded to the nearest integer and clamped to 0..255 (NaN becomes 0).
 uint8_t toByte(float value) {

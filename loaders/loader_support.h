@@ -1,0 +1,65 @@
+// Helpers shared by the loaders' sources (internal: only loaders/*.cpp include this; it pulls in GDAL).
+#pragma once
+
+#include <cpl_error.h>
+#include <gdal.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <mutex>
+#include <string>
+
+namespace terracast::loader_support {
+
+// The extension of a path, lower-cased, with its dot (".tif").
+inline std::string lowerExtension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return ext;
+}
+
+// The first line of a library's error message, without trailing blanks.
+inline std::string firstLine(const std::string& message) {
+    std::string line = message.substr(0, message.find('\n'));
+    while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
+    return line;
+}
+
+// Registers GDAL's drivers once per process.
+inline void registerGdalDrivers() {
+    static std::once_flag once;
+    std::call_once(once, [] { GDALAllRegister(); });
+}
+
+// Keeps GDAL from printing on this thread while it lives; failures reach the caller as exceptions instead.
+class QuietGdalErrors {
+public:
+    QuietGdalErrors() {
+        CPLPushErrorHandler(CPLQuietErrorHandler);
+        CPLErrorReset();
+    }
+    ~QuietGdalErrors() { CPLPopErrorHandler(); }
+    QuietGdalErrors(const QuietGdalErrors&) = delete;
+    QuietGdalErrors& operator=(const QuietGdalErrors&) = delete;
+};
+
+// Removes the file at `path` when destroyed, unless released: the temporary half of write-and-rename.
+class TemporaryFile {
+public:
+    explicit TemporaryFile(std::filesystem::path path) : path_(std::move(path)) {}
+    ~TemporaryFile() {
+        std::error_code ignored;
+        if (!released_) std::filesystem::remove(path_, ignored);
+    }
+    TemporaryFile(const TemporaryFile&) = delete;
+    TemporaryFile& operator=(const TemporaryFile&) = delete;
+    const std::filesystem::path& path() const { return path_; }
+    void release() { released_ = true; }
+
+private:
+    std::filesystem::path path_;
+    bool released_ = false;
+};
+
+}  // namespace terracast::loader_support
