@@ -136,6 +136,7 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
     // above (by the margin) from tFrom on, or tFrom when it passes above none. Every cell of such a block
     // would be rejected by the per-cell test below, so skipping it changes no hit.
     const int levels = traversal == Traversal::Pyramid ? g.pyramidLevels() : 0;
+    const double invDx = 1.0 / dg.x, invDy = 1.0 / dg.y;
     auto skipTo = [&](int64_t i, int64_t j, double tFrom) {
         const double zFrom = og.z + tFrom * dg.z;
         double best = tFrom;
@@ -144,8 +145,8 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
             const double x0 = double(bi << k), x1 = double(std::min((bi + 1) << k, g.cellsX()));
             const double y0 = double(bj << k), y1 = double(std::min((bj + 1) << k, g.cellsY()));
             double tOut = t1;
-            if (dg.x != 0.0) tOut = std::min(tOut, ((dg.x > 0.0 ? x1 : x0) - og.x) / dg.x);
-            if (dg.y != 0.0) tOut = std::min(tOut, ((dg.y > 0.0 ? y1 : y0) - og.y) / dg.y);
+            if (dg.x != 0.0) tOut = std::min(tOut, ((dg.x > 0.0 ? x1 : x0) - og.x) * invDx);
+            if (dg.y != 0.0) tOut = std::min(tOut, ((dg.y > 0.0 ? y1 : y0) - og.y) * invDy);
             const double zLow = std::min(zFrom, og.z + tOut * dg.z);
             if (!(zLow > double(g.blockMaxM(k, bi, bj)) + margin)) break;
             best = tOut;
@@ -156,16 +157,19 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
     double tStart = t0, restartAt = 0.0;
     auto visitCell = [&](const CellVisit& c) {
         if (counters) ++counters->cellsVisited;
-        if (levels > 0 && c.tExit > c.tEnter) {
+        // Try the pyramid only where the cell itself would be passed over: a cell the ray might touch cannot
+        // lie in a block it passes above, so cells near the surface pay nothing for the pyramid.
+        auto trySkip = [&]() {
+            if (levels == 0 || !(c.tExit > c.tEnter)) return false;
             const double tSkip = skipTo(c.i, c.j, c.tEnter);
-            if (tSkip > c.tExit) {
-                if (counters) ++counters->blocksSkipped;
-                cornerG.reset();
-                restartAt = tSkip;
-                return true;
-            }
-        }
+            if (!(tSkip > c.tExit)) return false;
+            if (counters) ++counters->blocksSkipped;
+            cornerG.reset();
+            restartAt = tSkip;
+            return true;
+        };
         if (!g.cellValid(c.i, c.j)) {
+            if (trySkip()) return true;
             // A corner pass: the segment clips the hole cell by less than 1e-7 of a cell (rounding of t).
             if ((c.tExit - c.tEnter) * (std::abs(dg.x) + std::abs(dg.y)) > 1e-7) cornerG.reset();
             return false;
@@ -175,10 +179,14 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
         const double h00 = g.at(c.i, c.j), h10 = g.at(c.i + 1, c.j), h01 = g.at(c.i, c.j + 1),
                      h11 = g.at(c.i + 1, c.j + 1);
         const double zMin = std::min(pEnter.z, pExit.z), zMax = std::max(pEnter.z, pExit.z);
+        if (zMin > std::max(std::max(h00, h10), std::max(h01, h11)) + margin) {
+            if (trySkip()) return true;
+            cornerG.reset();
+            return false;
+        }
         // A segment wholly below the cell is skipped when looking for the first crossing; for occlusion the
         // terrain is solid, so such a segment is tested (and found blocked) below.
-        if (zMin > std::max(std::max(h00, h10), std::max(h01, h11)) + margin ||
-            (!anyHit && zMax < std::min(std::min(h00, h10), std::min(h01, h11)) - margin)) {
+        if (!anyHit && zMax < std::min(std::min(h00, h10), std::min(h01, h11)) - margin) {
             cornerG.reset();
             return false;
         }
