@@ -136,7 +136,7 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
     // above (by the margin) from tFrom on, or tFrom when it passes above none. Every cell of such a block
     // would be rejected by the per-cell test below, so skipping it changes no hit.
     const int levels = traversal == Traversal::Pyramid ? g.pyramidLevels() : 0;
-    const double invDx = 1.0 / dg.x, invDy = 1.0 / dg.y;
+    // Block exits divide exactly as walkCells does, so a walk restarted there sees the same boundary t.
     auto skipTo = [&](int64_t i, int64_t j, double tFrom) {
         const double zFrom = og.z + tFrom * dg.z;
         double best = tFrom;
@@ -145,8 +145,8 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
             const double x0 = double(bi << k), x1 = double(std::min((bi + 1) << k, g.cellsX()));
             const double y0 = double(bj << k), y1 = double(std::min((bj + 1) << k, g.cellsY()));
             double tOut = t1;
-            if (dg.x != 0.0) tOut = std::min(tOut, ((dg.x > 0.0 ? x1 : x0) - og.x) * invDx);
-            if (dg.y != 0.0) tOut = std::min(tOut, ((dg.y > 0.0 ? y1 : y0) - og.y) * invDy);
+            if (dg.x != 0.0) tOut = std::min(tOut, ((dg.x > 0.0 ? x1 : x0) - og.x) / dg.x);
+            if (dg.y != 0.0) tOut = std::min(tOut, ((dg.y > 0.0 ? y1 : y0) - og.y) / dg.y);
             const double zLow = std::min(zFrom, og.z + tOut * dg.z);
             if (!(zLow > double(g.blockMaxM(k, bi, bj)) + margin)) break;
             best = tOut;
