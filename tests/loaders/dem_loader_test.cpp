@@ -1,5 +1,6 @@
 // Loader tests on the real sample files. Expected figures come from `gdalinfo -stats` and from the tiles'
 // published extents; pixels are cross-checked by reading them independently with GDAL and OpenImageIO.
+#include "support/temp_dir.h"
 #include "loaders/dem_loader.h"
 #include "loaders/errors.h"
 
@@ -21,6 +22,7 @@
 
 using namespace terracast;
 namespace fs = std::filesystem;
+using terracast::testing::TempDir;
 
 namespace {
 
@@ -32,27 +34,6 @@ const std::string kWhiteMountains = sample("N44W072.srtm3-white-mountains-nh.hgt
 const std::string kNice = sample("srtm3-n43e007-nice-maritime-alps-coast-geographic-int16.tif");
 const std::string kPugetSound = sample("puget-sound-usgs-1025x1025-16bit-heightmap.png");
 
-// A fresh folder under the system temporary directory, removed with everything in it.
-class TempDir {
-public:
-    TempDir() {
-        static int counter = 0;
-        path_ = fs::temp_directory_path() /
-                ("terracast-dem-test-" + std::to_string(getpid()) + "-" + std::to_string(counter++));
-        fs::remove_all(path_);
-        fs::create_directories(path_);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        fs::remove_all(path_, ignored);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    std::string file(const std::string& name) const { return (path_ / name).string(); }
-
-private:
-    fs::path path_;
-};
 
 void writeBytes(const std::string& path, const std::string& bytes) {
     std::ofstream out(path, std::ios::binary);

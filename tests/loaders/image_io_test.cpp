@@ -1,5 +1,6 @@
 // Image writing and reading: round trips through PNG and EXR, the sRGB encoding of stored bytes, and failures
 // that must leave no file behind.
+#include "support/temp_dir.h"
 #include "loaders/errors.h"
 #include "loaders/image_io.h"
 
@@ -15,32 +16,10 @@
 
 using namespace terracast;
 namespace fs = std::filesystem;
+using terracast::testing::TempDir;
 
 namespace {
 
-// A fresh folder under the system temporary directory, removed with everything in it.
-class TempDir {
-public:
-    TempDir() {
-        static int counter = 0;
-        path_ = fs::temp_directory_path() /
-                ("terracast-image-test-" + std::to_string(getpid()) + "-" + std::to_string(counter++));
-        fs::remove_all(path_);
-        fs::create_directories(path_);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        fs::remove_all(path_, ignored);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    const fs::path& path() const { return path_; }
-    std::string file(const std::string& name) const { return (path_ / name).string(); }
-    size_t entryCount() const { return static_cast<size_t>(std::distance(fs::directory_iterator(path_), {})); }
-
-private:
-    fs::path path_;
-};
 
 // A 16 x 8 gradient covering [0, 1] in red and green, with blue at constant levels.
 RgbImage gradient() {

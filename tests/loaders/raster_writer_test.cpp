@@ -1,6 +1,7 @@
 // GeoTIFF writing on a DEM's grid: a raster written on the Mt St Helens grid has the source file's size,
 // geotransform, CRS and row order; Byte rasters clamp and round; rasters without a georeference get no CRS;
 // bad paths and sizes fail without leaving a file. Files are read back with GDAL directly.
+#include "support/temp_dir.h"
 #include "loaders/dem_loader.h"
 #include "loaders/errors.h"
 #include "loaders/raster_writer.h"
@@ -21,36 +22,13 @@
 
 using namespace terracast;
 namespace fs = std::filesystem;
+using terracast::testing::TempDir;
 
 namespace {
 
 const std::string kStHelens =
     std::string(TERRACAST_SOURCE_DIR "/data-samples/") + "usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif";
 
-// A fresh folder under the system temporary directory, removed with everything in it.
-class TempDir {
-public:
-    TempDir() {
-        static int counter = 0;
-        path_ = fs::temp_directory_path() /
-                ("terracast-raster-writer-test-" + std::to_string(getpid()) + "-" + std::to_string(counter++));
-        fs::remove_all(path_);
-        fs::create_directories(path_);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        fs::permissions(path_, fs::perms::owner_all, fs::perm_options::add, ignored);
-        fs::remove_all(path_, ignored);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    const fs::path& path() const { return path_; }
-    std::string file(const std::string& name) const { return (path_ / name).string(); }
-    size_t entryCount() const { return static_cast<size_t>(std::distance(fs::directory_iterator(path_), {})); }
-
-private:
-    fs::path path_;
-};
 
 GDALDatasetUniquePtr openRaster(const std::string& path) {
     GDALAllRegister();
