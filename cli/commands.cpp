@@ -73,6 +73,14 @@ double peakResidentBytes() {
     return double(usage.ru_maxrss) * 1024.0;
 }
 
+// The one-line summary that ends a raster command: what was written, its size, seconds and peak memory.
+void printRasterSummary(const std::string& what, const std::string& path, const MapRaster& r,
+                        std::chrono::steady_clock::time_point start) {
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    fmt::print(stderr, "terracast: {} {} ({} x {} vertices) in {:.2f} s, peak memory {}\n", what, path, r.width, r.height,
+               seconds, humanBytes(peakResidentBytes()));
+}
+
 // Progress on stderr when it is a terminal: percentage, rays per second and time left.
 class TerminalProgress {
 public:
@@ -406,7 +414,9 @@ int runAccuracy(const AccuracyCommandOptions& o) {
         AccuracyOptions options;
         options.rays = o.rays;
         options.seed = o.seed;
+        const auto start = std::chrono::steady_clock::now();
         const AccuracyReport r = measureAccuracy(dem.grid, options);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
         fmt::print("{}: {} x {} vertices, {} rays ({} camera, {} grazing, {} shadow), seed {}\n", dem.path,
                    dem.grid.width(), dem.grid.height(), r.rays, r.cameraRays, r.grazingRays, r.shadowRays, o.seed);
@@ -422,6 +432,8 @@ int runAccuracy(const AccuracyCommandOptions& o) {
                        m.unambiguousDisagreements, m.tErrorM.mean, m.tErrorM.p99, m.tErrorM.max, m.tErrorRel.mean,
                        m.tErrorRel.p99, m.tErrorRel.max);
         }
+        fmt::print(stderr, "terracast: accuracy of {} methods on {} rays each (plus the reference) in {:.2f} s, peak memory {}\n",
+                   r.methods.size(), r.rays, seconds, humanBytes(peakResidentBytes()));
         if (!o.json.empty()) {
             std::string j = fmt::format(
                 "{{\"dem\": {}, \"width\": {}, \"height\": {}, \"rays\": {}, \"seed\": {}, "
@@ -466,6 +478,11 @@ int runCompare(const CompareCommandOptions& o) {
         if (!o.outDir.empty() && !fs::is_directory(o.outDir, ec) && !fs::create_directories(o.outDir, ec))
             throw InputError(fmt::format("--out-dir: cannot create folder '{}' ({})", o.outDir, ec.message()));
 
+        if (isatty(fileno(stderr)))
+            cs.onMethod = [](SurfaceMethod m, size_t k, size_t n) {
+                fmt::print(stderr, "\rcompare: tracing {} ({} of {})          ", surfaceMethodName(m), k + 1, n);
+                if (k + 1 == n) fmt::print(stderr, "\n");
+            };
         const auto start = std::chrono::steady_clock::now();
         const CompareReport r = compareSurfaces(dem.grid, cs);
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -482,7 +499,8 @@ int runCompare(const CompareCommandOptions& o) {
                        m.primaryRaysPerSecond * 1e-6, m.shadowRaysPerSecond * 1e-6, m.hitAgreement, m.tErrorM.mean,
                        m.tErrorM.p99, m.tErrorM.max, m.imageRmse, m.imagePsnrDb, m.ratioToEmbreePrimary,
                        m.ratioToEmbreeShadow);
-        fmt::print("({:.1f} s in all; x prim / x shad: rays per second over embree's, this run)\n", seconds);
+        fmt::print("({:.1f} s in all, peak memory {}; x prim / x shad: rays per second over embree's, this run)\n",
+                   seconds, humanBytes(peakResidentBytes()));
 
         if (!o.outDir.empty()) {
             const MethodComparison* ref = nullptr;
@@ -533,9 +551,11 @@ int runShadow(const ShadowOptions& o) {
         const CellMethod method = directMethod(o.method, "shadow");
         const LoadedDem dem = load(o.dem);
         constexpr double kDeg = 3.14159265358979323846 / 180.0;
+        const auto start = std::chrono::steady_clock::now();
         const MapRaster mask = shadowMask(dem.grid, o.sunAzimuthDeg * kDeg, o.sunElevationDeg * kDeg, method,
                                           0.5 * o.sunSizeDeg * kDeg, 16, o.threads);
         writeVertexRaster(o.output, dem, mask, RasterType::Float32, -9999.0);
+        printRasterSummary("shadow mask", o.output, mask, start);
         return 0;
     });
 }
@@ -546,8 +566,10 @@ int runHorizon(const HorizonOptions& o) {
         const CellMethod method = directMethod(o.method, "horizon");
         const LoadedDem dem = load(o.dem);
         constexpr double kDeg = 3.14159265358979323846 / 180.0;
+        const auto start = std::chrono::steady_clock::now();
         const MapRaster horizon = horizonMap(dem.grid, o.azimuthDeg * kDeg, method, o.threads);
         writeVertexRaster(o.output, dem, horizon, RasterType::Float32, -9999.0);
+        printRasterSummary("horizon angles", o.output, horizon, start);
         return 0;
     });
 }
@@ -574,8 +596,10 @@ int runViewshed(const ViewshedOptions& o) {
         s.targetHeightM = o.targetHeightM;
         s.curvatureCoeff = o.curvatureCoeff;
         s.threads = o.threads;
+        const auto start = std::chrono::steady_clock::now();
         const MapRaster vis = viewshed(dem.grid, s);
         writeVertexRaster(o.output, dem, vis, RasterType::Byte, 255.0);
+        printRasterSummary("viewshed", o.output, vis, start);
         return 0;
     });
 }

@@ -95,7 +95,10 @@ CompareReport compareSurfaces(const HeightGrid& grid, const CompareSettings& set
     std::vector<SurfaceMethod> methods = settings.methods;
     if (std::find(methods.begin(), methods.end(), settings.reference) == methods.end())
         methods.insert(methods.begin(), settings.reference);
-    for (SurfaceMethod m : methods) report.methods.push_back(traceMethod(grid, m, settings.render));
+    for (size_t k = 0; k < methods.size(); ++k) {
+        if (settings.onMethod) settings.onMethod(methods[k], k, methods.size());
+        report.methods.push_back(traceMethod(grid, methods[k], settings.render));
+    }
 
     const MethodComparison* ref = nullptr;
     const MethodComparison* embree = nullptr;

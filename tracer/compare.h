@@ -9,6 +9,7 @@
 #include "tracer/terrain_renderer.h"
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,8 @@ struct CompareSettings {
     TerrainRenderSettings render;                          // size, camera, sun, threads (method unused)
     std::vector<SurfaceMethod> methods = compareMethods();  // measured in this order
     SurfaceMethod reference = SurfaceMethod::BilinearDouble;  // compared against; measured too
+    // Called before each method is traced, with its position and the number of methods (for progress).
+    std::function<void(SurfaceMethod, size_t index, size_t count)> onMethod;
 };
 
 struct MethodComparison {
