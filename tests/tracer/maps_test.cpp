@@ -62,7 +62,7 @@ TEST_CASE("A soft sun gives partial shadow between the hard mask's values", "[tr
     CHECK(partial > 50);
 }
 
-TEST_CASE("Viewshed: a wall hides exactly what lies behind it; flat ground is all visible", "[tracer][maps]") {
+TEST_CASE("Viewshed: a wall hides exactly what lies behind it, and flat ground is all visible", "[tracer][maps]") {
     // 41 x 21 vertices at 10 m on flat ground; a wall 50 m high along vertex column 20.
     const int64_t w = 41, h = 21;
     std::vector<float> z(size_t(w * h), 0.0f);
