@@ -96,9 +96,12 @@ public:
                    elapsed > 0.0 ? double(rays) / elapsed * 1e-6 : 0.0, eta);
         dirty_ = true;
     }
-    ~TerminalProgress() {
+    // Clears the progress line, so what follows starts at the left margin.
+    void finish() {
         if (dirty_) fmt::print(stderr, "\r{:60}\r", "");
+        dirty_ = false;
     }
+    ~TerminalProgress() { finish(); }
 
 private:
     bool enabled_;
@@ -385,6 +388,7 @@ int runRender(const RenderOptions& o) {
         const TerrainSurface surface(grid, o.method, o.threads);
         RenderStats stats;
         Film film = renderTerrain(grid, surface, s, &stats);
+        progress.finish();
         writeImage(o.output, RgbImage{film.width, film.height, std::move(film.rgb)});
         if (!o.quiet) {
             const int64_t rays = stats.primaryRays + stats.shadowRays;
