@@ -6,6 +6,7 @@
 #include "loaders/crs.h"
 #include "loaders/raster_writer.h"
 #include "tracer/accuracy.h"
+#include "tracer/cancel.h"
 #include "tracer/compare.h"
 #include "tracer/maps.h"
 #include "tracer/terrain_renderer.h"
@@ -33,6 +34,9 @@ template <class Body>
 int guarded(Body&& body) {
     try {
         return body();
+    } catch (const Cancelled&) {
+        fmt::print(stderr, "terracast: interrupted; no output written\n");
+        return 130;
     } catch (const InputError& e) {
         fmt::print(stderr, "terracast: error: {}\n", e.what());
         return 2;

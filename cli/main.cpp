@@ -2,7 +2,10 @@
 // one library function per subcommand.
 #include "cli/commands.h"
 
+#include "tracer/cancel.h"
+
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <fmt/core.h>
 
 #include <string>
@@ -37,7 +40,14 @@ bool parseViewOptions(const std::string& size, const std::string& sun, int& widt
 
 }  // namespace
 
+// SIGINT and SIGTERM ask the running command to stop between tiles; outputs are written only at the end
+// (through a temporary file), so nothing partial is left.
+extern "C" void onInterrupt(int) { cancelFlag().store(true); }
+
 int main(int argc, char** argv) {
+    cancelFlag().store(false);  // made before the handlers, so a signal never initialises it
+    std::signal(SIGINT, onInterrupt);
+    std::signal(SIGTERM, onInterrupt);
     CLI::App app{"terracast: ray tracing of terrain height fields, exact or triangulated"};
     app.require_subcommand(1);
     app.set_version_flag("--version", "terracast 0.1.0");

@@ -4,6 +4,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 
@@ -133,5 +134,27 @@ TEST_CASE("CLI: bad view values are refused with exit 2 and name the option", "[
     r = runTerracast("compare '" + kStHelens + "' --size 8x8 --methods bilinear,nearest --out-dir '" + (dir / "cmp").string() + "'");
     CHECK(r.exitCode == 0);
     CHECK(terracast::readImage((dir / "cmp" / "diff-nearest.png").string()).width == 8);
+    fs::remove_all(dir);
+}
+
+TEST_CASE("CLI: an interrupted render exits promptly, says so and leaves no file", "[cli]") {
+    const fs::path dir = tempDir("interrupt");
+    const fs::path out = dir / "big.png";
+    // A render of several seconds on one thread, stopped after one second. (SIGTERM: a shell starts background
+    // jobs with SIGINT ignored until the program installs its handler.)
+    const std::string script = "'" + std::string(TERRACAST_CLI_PATH) + "' render '" + kStHelens + "' -o '" +
+                               out.string() + "' --size 6000x4000 --threads 1 -q 2>'" + (dir / "err.txt").string() +
+                               "' & pid=$!; sleep 1; kill -TERM $pid; wait $pid; echo $? > '" +
+                               (dir / "rc.txt").string() + "'";
+    const auto start = std::chrono::steady_clock::now();
+    REQUIRE(std::system(script.c_str()) == 0);  // std::system runs it with sh -c
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    CHECK(std::stoi(slurp(dir / "rc.txt")) == 130);
+    CHECK(slurp(dir / "err.txt").find("interrupted") != std::string::npos);
+    CHECK(seconds < 4.0);
+    CHECK_FALSE(fs::exists(out));
+    int files = 0;
+    for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++files;
+    CHECK(files == 2);  // only err.txt and rc.txt: no temporary image either
     fs::remove_all(dir);
 }
