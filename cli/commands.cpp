@@ -54,6 +54,7 @@ int guarded(Body&& body) {
 
 LoadedDem load(const DemOptions& o) {
     DemLoadOptions lo;
+    lo.maxBytes = o.maxMemoryBytes;
     lo.imageCellSizeM = o.imageCellSizeM;
     lo.imageHeightScale = o.imageHeightScale;
     LoadedDem dem = loadDem(o.path, lo);
@@ -208,6 +209,25 @@ void checkViewValues(double exaggeration, double sunElevationDeg) {
         throw InputError(fmt::format("--sun: elevation must lie in [-90, 90] degrees, found {}", sunElevationDeg));
 }
 
+// Refuses a job whose estimate (the grid already loaded, plus `extraBytes` still to allocate: films,
+// Embree's scene) exceeds the memory limit, before allocating any of it.
+void checkMemory(const DemOptions& dem, const HeightGrid& grid, double extraBytes, const std::string& what) {
+    const double limit = dem.maxMemoryBytes > 0.0 ? dem.maxMemoryBytes : defaultMemoryLimitBytes();
+    const double need = double(grid.memoryBytes()) + extraBytes;
+    if (need > limit)
+        throw InputError(fmt::format("{}: {} needs about {} ({} for the grid), more than the {} limit (--max-memory)",
+                                     dem.path, what, humanBytes(need), humanBytes(double(grid.memoryBytes())),
+                                     humanBytes(limit)));
+}
+
+// Embree's bytes per cell, as measured on this project's DEMs (triangle mesh peak, grid geometry).
+double embreeBytesEstimate(SurfaceMethod m, const HeightGrid& grid) {
+    const double cells = double(grid.validCellCount());
+    if (m == SurfaceMethod::Embree) return 230.0 * cells;
+    if (m == SurfaceMethod::EmbreeGrid) return 40.0 * cells;
+    return 0.0;
+}
+
 // Applies the exaggeration to the loaded grid and builds the view: size, sun, camera (automatic or parsed).
 TerrainRenderSettings makeView(HeightGrid& grid, int width, int height, double sunAzimuthDeg, double sunElevationDeg,
                                double exaggeration, const std::string& camera, int threads) {
@@ -256,6 +276,25 @@ std::string errorJson(const ErrorSummary& e) {
 }
 
 }  // namespace
+
+bool parseByteCount(const std::string& text, double& bytes) {
+    try {
+        size_t used = 0;
+        double v = std::stod(text, &used);
+        std::string unit = text.substr(used);
+        if (unit.size() > 1 || !std::isfinite(v) || !(v > 0.0)) return false;
+        if (!unit.empty()) {
+            const std::string units = "KMGT";
+            const auto k = units.find(char(std::toupper(static_cast<unsigned char>(unit[0]))));
+            if (k == std::string::npos) return false;
+            v *= std::pow(1024.0, double(k + 1));
+        }
+        bytes = v;
+        return true;
+    } catch (const std::exception&) {
+        return false;
+    }
+}
 
 bool parseSize(const std::string& text, int& width, int& height) {
     const auto x = text.find_first_of("xX");
@@ -389,6 +428,8 @@ int runRender(const RenderOptions& o) {
         TerminalProgress progress(!o.quiet);
         s.progress = [&](double f, int64_t rays) { progress.update(f, rays); };
 
+        checkMemory(o.dem, grid, double(o.width) * o.height * 12.0 + embreeBytesEstimate(o.method, grid),
+                    fmt::format("rendering {}x{} with {}", o.width, o.height, surfaceMethodName(o.method)));
         const TerrainSurface surface(grid, o.method, o.threads);
         RenderStats stats;
         Film film = renderTerrain(grid, surface, s, &stats);
@@ -482,6 +523,15 @@ int runCompare(const CompareCommandOptions& o) {
         cs.methods = o.methods;
         cs.render = makeView(dem.grid, o.width, o.height, o.sunAzimuthDeg, o.sunElevationDeg, o.exaggeration, o.camera,
                              o.threads);
+        {
+            // Every method keeps its picture and hit distances (12 + 8 bytes per pixel) plus per-pass buffers;
+            // the largest acceleration structure is alive one at a time.
+            double embree = 0.0;
+            for (SurfaceMethod m : cs.methods) embree = std::max(embree, embreeBytesEstimate(m, dem.grid));
+            const double pixels = double(o.width) * o.height;
+            checkMemory(o.dem, dem.grid, pixels * (20.0 * double(cs.methods.size() + 1) + 120.0) + embree,
+                        fmt::format("comparing {} methods at {}x{}", cs.methods.size(), o.width, o.height));
+        }
         // The output folder is made only once the input has loaded, so a bad input leaves nothing behind.
         if (!o.outDir.empty() && !fs::is_directory(o.outDir, ec) && !fs::create_directories(o.outDir, ec))
             throw InputError(fmt::format("--out-dir: cannot create folder '{}' ({})", o.outDir, ec.message()));

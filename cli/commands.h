@@ -17,7 +17,11 @@ struct DemOptions {
     std::string path;               // DEM file
     double imageCellSizeM = 1.0;    // PNG height maps: metres between samples
     double imageHeightScale = 1.0;  // PNG height maps: metres per stored unit
+    double maxMemoryBytes = 0.0;    // refuse jobs estimated to need more; 0 = 80% of physical memory
 };
+
+// Parses a byte count such as "512M", "8G", "1.5T" or "1000000" (K, M, G, T are powers of 1024).
+bool parseByteCount(const std::string& text, double& bytes);
 
 // `terracast info DEM`
 struct InfoOptions {

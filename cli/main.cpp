@@ -15,6 +15,13 @@ using namespace terracast;
 namespace {
 
 void addDemOptions(CLI::App& cmd, DemOptions& dem) {
+    cmd.add_option_function<std::string>(
+        "--max-memory",
+        [&dem](const std::string& text) {
+            if (!parseByteCount(text, dem.maxMemoryBytes))
+                throw CLI::ValidationError("--max-memory", "expected a size such as 512M or 8G, found '" + text + "'");
+        },
+        "Refuse jobs estimated to need more memory than this, e.g. 8G (default: 80% of physical memory)");
     cmd.add_option("DEM", dem.path, "Elevation raster: GeoTIFF, SRTM .hgt, any GDAL raster, or a PNG height map")
         ->required();
     cmd.add_option("--cell-size", dem.imageCellSizeM, "PNG height maps: metres between samples (default 1)")

@@ -21,6 +21,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <unistd.h>
 #include <fstream>
 #include <mutex>
 #include <numbers>
@@ -31,8 +32,9 @@ namespace {
 using namespace loader_support;
 
 constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
-constexpr double kMaxGridBytes = 64.0 * kGiB;                        // refuse rasters needing more than this
-constexpr double kBytesPerVertex = sizeof(float) + sizeof(uint8_t);  // height + nodata flag
+// Per vertex while loading and tracing: the height, the nodata flag, the cell flag, the maximum pyramid
+// (a third of a float per cell) and the reader's float copy of the raster row data.
+constexpr double kBytesPerVertex = sizeof(float) + 2 * sizeof(uint8_t) + sizeof(float) / 3.0 + sizeof(float);
 constexpr double kLargeExtentDeg = 5.0;                              // wider geographic extents get a warning
 constexpr double kFootM = 0.3048;                                    // international foot
 constexpr double kUsSurveyFootM = 1200.0 / 3937.0;                   // US survey foot
@@ -55,16 +57,17 @@ void checkIsFile(const std::string& path) {
 }
 
 // Rejects rasters without a cell, and rasters too large to hold, before anything is allocated.
-void checkRasterSize(const std::string& path, int64_t width, int64_t height) {
+void checkRasterSize(const std::string& path, int64_t width, int64_t height, double maxBytes) {
     if (width <= 0 || height <= 0) throw InputError(fmt::format("{}: raster is {} x {}", path, width, height));
     if (width < 2 || height < 2)
         throw InputError(fmt::format("{}: {} x {} raster has no cell to trace (need at least 2 x 2)", path, width,
                                      height));
     const double bytes = static_cast<double>(width) * static_cast<double>(height) * kBytesPerVertex;
-    if (bytes > kMaxGridBytes)
-        throw InputError(fmt::format("{}: {} x {} raster needs {:.1f} GiB for heights and nodata mask, more than "
-                                     "the {:.0f} GiB limit",
-                                     path, width, height, bytes / kGiB, kMaxGridBytes / kGiB));
+    const double limit = maxBytes > 0.0 ? maxBytes : defaultMemoryLimitBytes();
+    if (bytes > limit)
+        throw InputError(fmt::format("{}: {} x {} raster needs about {:.2f} GiB to load and trace, more than the "
+                                     "{:.2f} GiB limit (--max-memory)",
+                                     path, width, height, bytes / kGiB, limit / kGiB));
 }
 
 // Builds the grid, naming the file in any GridError, and refuses grids without a cell to trace.
@@ -223,7 +226,7 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options) {
     const int64_t height = dataset->GetRasterYSize();
     dem.sourceWidth = width;
     dem.sourceHeight = height;
-    checkRasterSize(path, width, height);
+    checkRasterSize(path, width, height, options.maxBytes);
     const int bands = dataset->GetRasterCount();
     if (bands < 1) throw InputError(path + ": raster has no band");
     if (bands > 1) dem.warnings.push_back(fmt::format("{}: {} bands, using band 1 as elevation", path, bands));
@@ -351,7 +354,7 @@ LoadedDem loadWithImageInput(const std::string& path, const DemLoadOptions& opti
     const int64_t height = spec.height;
     dem.sourceWidth = width;
     dem.sourceHeight = height;
-    checkRasterSize(path, width, height);
+    checkRasterSize(path, width, height, options.maxBytes);
     if (spec.nchannels > 1)
         dem.warnings.push_back(fmt::format("{}: {} channels, using channel 0 as height", path, spec.nchannels));
 
@@ -398,6 +401,12 @@ MetresPerDegree metresPerDegree(double latDeg) {
     const double primeVerticalM = a / std::sqrt(w);
     constexpr double radiansPerDegree = std::numbers::pi / 180.0;
     return {meridionalM * radiansPerDegree, primeVerticalM * std::cos(phi) * radiansPerDegree};
+}
+
+double defaultMemoryLimitBytes() {
+    const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
+    if (pages <= 0 || pageSize <= 0) return 64.0 * kGiB;
+    return 0.8 * double(pages) * double(pageSize);
 }
 
 }  // namespace terracast

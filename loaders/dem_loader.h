@@ -26,7 +26,11 @@ struct GeoReference {
 struct DemLoadOptions {
     double imageCellSizeM = 1.0;    // height maps without georeference: metres between samples
     double imageHeightScale = 1.0;  // height maps: metres per stored unit (8-bit 0..255, 16-bit 0..65535)
+    double maxBytes = 0.0;          // refuse rasters needing more memory than this; 0 = 80% of physical memory
 };
+
+// 80% of the machine's physical memory: the default memory limit.
+double defaultMemoryLimitBytes();
 
 // A loaded DEM: plain data, no GDAL or OpenImageIO types.
 struct LoadedDem {

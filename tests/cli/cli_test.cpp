@@ -158,3 +158,25 @@ TEST_CASE("CLI: an interrupted render exits promptly, says so and leaves no file
     CHECK(files == 2);  // only err.txt and rc.txt: no temporary image either
     fs::remove_all(dir);
 }
+
+TEST_CASE("CLI: --max-memory refuses jobs estimated above it, before any work", "[cli]") {
+    const fs::path dir = tempDir("memory");
+    const std::string out = (dir / "m.png").string();
+    // The grid itself: 327 x 468 vertices need about 2 MiB to load and trace.
+    auto r = runTerracast("render '" + kStHelens + "' -o '" + out + "' --max-memory 1M");
+    CHECK(r.exitCode == 2);
+    CHECK(r.err.find("--max-memory") != std::string::npos);
+    CHECK(r.err.find("GiB") != std::string::npos);
+    // The grid fits but an Embree scene and the film do not.
+    r = runTerracast("render '" + kStHelens + "' -o '" + out + "' --max-memory 8M --method embree");
+    CHECK(r.exitCode == 2);
+    CHECK(r.err.find("embree") != std::string::npos);
+    CHECK(lineCount(r.err) == 1);
+    CHECK_FALSE(fs::exists(out));
+    // Enough memory: the same job runs.
+    r = runTerracast("render '" + kStHelens + "' -o '" + out + "' --max-memory 2G --method embree --size 64x48");
+    CHECK(r.exitCode == 0);
+    r = runTerracast("info '" + kStHelens + "' --max-memory 12X");
+    CHECK(r.exitCode == 2);
+    fs::remove_all(dir);
+}

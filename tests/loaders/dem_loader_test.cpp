@@ -422,7 +422,16 @@ TEST_CASE("Unreadable inputs throw one-line InputErrors naming the file", "[load
         writeBytes(path, "<VRTDataset rasterXSize=\"200000\" rasterYSize=\"200000\">\n"
                          "  <VRTRasterBand dataType=\"Float32\" band=\"1\"/>\n"
                          "</VRTDataset>\n");
-        CHECK_THAT(loadError(path), Catch::Contains("GiB") && Catch::Contains("64 GiB limit"));
+        // 200000^2 vertices need hundreds of GiB: refused against the default limit (80% of physical memory),
+        // from the header alone.
+        CHECK_THAT(loadError(path), Catch::Contains("422.20 GiB") && Catch::Contains("GiB limit (--max-memory)"));
+        // A small DEM under an explicit limit below its need is refused too, naming the limit.
+        DemLoadOptions tight;
+        tight.maxBytes = 1024.0 * 1024.0;
+        const std::string small = std::string(TERRACAST_SOURCE_DIR) + "/data-samples/usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif";
+        CHECK_THROWS_WITH(loadDem(small, tight), Catch::Contains("0.00 GiB limit"));
+        tight.maxBytes = 64.0 * 1024.0 * 1024.0;
+        CHECK_NOTHROW(loadDem(small, tight));
     }
     const std::string message = loadError(path);
     CHECK_THAT(message, Catch::Contains(path));
