@@ -22,8 +22,6 @@ template <class Real>
 struct CellCorners {
     Real h00, h10, h01, h11;
 
-    Real minHeight() const { return std::min(std::min(h00, h10), std::min(h01, h11)); }
-    Real maxHeight() const { return std::max(std::max(h00, h10), std::max(h01, h11)); }
     // Bilinear coefficients: h(u, v) = a + b u + c v + d u v.
     Real a() const { return h00; }
     Real b() const { return h10 - h00; }
@@ -135,12 +133,6 @@ std::optional<Real> intersectNearestCell(const CellCorners<Real>& h, const CellS
     if (gExit < Real(0)) return std::nullopt;
     if (seg.dz == Real(0)) return std::nullopt;
     return std::clamp((level - seg.z0) / seg.dz, Real(0), seg.length);
-}
-
-// Bilinear height at a local point.
-template <class Real>
-inline Real bilinearHeight(const CellCorners<Real>& h, Real u, Real v) {
-    return h.a() + h.b() * u + h.c() * v + h.d() * u * v;
 }
 
 }  // namespace terracast
