@@ -115,13 +115,29 @@ private:
     std::chrono::steady_clock::time_point last_{};
 };
 
+constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
+
+// The extension of a path, lower-cased, with its dot.
+std::string lowerExtension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
+// Refuses an output path that names the input DEM.
+void checkNotInput(const std::string& output, const std::string& input, const char* what) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (fs::exists(output, ec) && fs::exists(input, ec) && fs::equivalent(output, input, ec))
+        throw InputError(fmt::format("{}: {} is the input DEM; refusing to overwrite it", output, what));
+}
+
 // Checks an output path before any work: its extension is one of `allowed`, it is not the input DEM, and
 // its folder exists.
 void checkOutputPath(const std::string& output, const std::string& input,
                      std::initializer_list<const char*> allowed = {".png", ".exr"}) {
     namespace fs = std::filesystem;
-    std::string ext = fs::path(output).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string ext = lowerExtension(output);
     bool ok = false;
     std::string expected;
     for (const char* a : allowed) {
@@ -129,9 +145,8 @@ void checkOutputPath(const std::string& output, const std::string& input,
         expected += (expected.empty() ? "" : " or ") + std::string(a);
     }
     if (!ok) throw InputError(fmt::format("{}: unsupported output format '{}' (expected {})", output, ext, expected));
+    checkNotInput(output, input, "output path");
     std::error_code ec;
-    if (fs::exists(output, ec) && fs::exists(input, ec) && fs::equivalent(output, input, ec))
-        throw InputError(fmt::format("{}: output path is the input DEM; refusing to overwrite it", output));
     const fs::path dir = fs::path(output).parent_path();
     if (!dir.empty() && !fs::is_directory(dir, ec))
         throw InputError(fmt::format("{}: output folder '{}' does not exist", output, dir.string()));
@@ -165,40 +180,6 @@ void writeVertexRaster(const std::string& path, const LoadedDem& dem, const MapR
         if (std::isnan(v)) v = float(noData);
     writeGeoTiff(path, out, type, dem.geo, dem.geo.originX, dem.geo.originY, sourcePixelSizeX(dem.geo),
                  sourcePixelSizeY(dem.geo));
-}
-
-// Writes a text file through a temporary file in the same folder and a rename.
-void writeTextAtomically(const std::string& path, const std::string& text) {
-    namespace fs = std::filesystem;
-    const fs::path target(path);
-    const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-    std::error_code ec;
-    if (!fs::is_directory(dir, ec))
-        throw InputError(fmt::format("{}: output folder '{}' does not exist", path, dir.string()));
-    const fs::path tmp = dir / fmt::format(".{}.tmp{}", target.filename().string(), getpid());
-    {
-        std::ofstream out(tmp, std::ios::binary);
-        out << text;
-        out.flush();
-        if (!out) {
-            fs::remove(tmp, ec);
-            throw std::runtime_error(fmt::format("{}: cannot write in '{}'", path, dir.string()));
-        }
-    }
-    fs::rename(tmp, target, ec);
-    if (ec) {
-        const std::string reason = ec.message();
-        fs::remove(tmp, ec);
-        throw std::runtime_error(fmt::format("{}: cannot write ({})", path, reason));
-    }
-}
-
-// Refuses an output path that names the input DEM.
-void checkNotInput(const std::string& output, const std::string& input, const char* what) {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    if (fs::exists(output, ec) && fs::exists(input, ec) && fs::equivalent(output, input, ec))
-        throw InputError(fmt::format("{}: {} is the input DEM; refusing to overwrite it", output, what));
 }
 
 // Checks the view values every rendering command shares, before any loading.
@@ -382,9 +363,7 @@ int renderMap(const RenderOptions& o) {
     const auto start = std::chrono::steady_clock::now();
     const Film film = renderMapView(dem.grid, m);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::string ext = std::filesystem::path(o.output).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    if (ext == ".png") {
+    if (lowerExtension(o.output) == ".png") {
         writeImage(o.output, RgbImage{film.width, film.height, film.rgb});
     } else {
         // 8-bit sRGB in three bands, rows south first as the writer expects; pixel centres on the DEM's CRS.
@@ -396,11 +375,8 @@ int renderMap(const RenderOptions& o) {
         for (int y = 0; y < film.height; ++y)
             for (int x = 0; x < film.width; ++x) {
                 const glm::vec3 c = film.get(x, film.height - 1 - y);
-                for (int b = 0; b < 3; ++b) {
-                    const float v = std::clamp(c[b], 0.0f, 1.0f);
-                    const float enc = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-                    out.values[(size_t(y) * size_t(film.width) + size_t(x)) * 3 + size_t(b)] = 255.0f * enc;
-                }
+                for (int b = 0; b < 3; ++b)
+                    out.values[(size_t(y) * size_t(film.width) + size_t(x)) * 3 + size_t(b)] = 255.0f * srgbFromLinear(c[b]);
             }
         const double pxX = dem.grid.extentXM() / film.width / dem.grid.cellSizeXM() * sourcePixelSizeX(dem.geo);
         const double pxY = dem.grid.extentYM() / film.height / dem.grid.cellSizeYM() * sourcePixelSizeY(dem.geo);
@@ -501,7 +477,7 @@ int runAccuracy(const AccuracyCommandOptions& o) {
                     m.comparedHits, errorJson(m.tErrorM), errorJson(m.tErrorRel));
             }
             j += "\n ]}\n";
-            writeTextAtomically(o.json, j);
+            writeTextFile(o.json, j);
         }
         return 0;
     });
@@ -571,7 +547,7 @@ int runCompare(const CompareCommandOptions& o) {
                 const Film heat = differenceHeatMap(m, *ref);
                 writeImage((fs::path(o.outDir) / ("diff-" + name + ".png")).string(), RgbImage{heat.width, heat.height, heat.rgb});
             }
-            writeTextAtomically((fs::path(o.outDir) / "tradeoff.svg").string(), tradeoffSvg(r));
+            writeTextFile((fs::path(o.outDir) / "tradeoff.svg").string(), tradeoffSvg(r));
         }
         // The report goes last: its presence says the run completed.
         if (!o.json.empty()) {
@@ -594,7 +570,7 @@ int runCompare(const CompareCommandOptions& o) {
                     jsonNumber(m.ratioToEmbreeShadow));
             }
             j += "\n ]}\n";
-            writeTextAtomically(o.json, j);
+            writeTextFile(o.json, j);
         }
         return 0;
     });
@@ -608,10 +584,10 @@ int runShadow(const ShadowOptions& o) {
             throw InputError(fmt::format("--sun-size: expected degrees in [0, 30), found {}", o.sunSizeDeg));
         const CellMethod method = directMethod(o.method, "shadow");
         const LoadedDem dem = load(o.dem);
-        constexpr double kDeg = 3.14159265358979323846 / 180.0;
         const auto start = std::chrono::steady_clock::now();
-        const MapRaster mask = shadowMask(dem.grid, o.sunAzimuthDeg * kDeg, o.sunElevationDeg * kDeg, method,
-                                          0.5 * o.sunSizeDeg * kDeg, 16, o.threads);
+        const MapRaster mask = shadowMask(dem.grid, o.sunAzimuthDeg * kRadiansPerDegree,
+                                          o.sunElevationDeg * kRadiansPerDegree, method,
+                                          0.5 * o.sunSizeDeg * kRadiansPerDegree, 16, o.threads);
         writeVertexRaster(o.output, dem, mask, RasterType::Float32, -9999.0);
         printRasterSummary("shadow mask", o.output, mask, start);
         return 0;
@@ -623,9 +599,8 @@ int runHorizon(const HorizonOptions& o) {
         checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
         const CellMethod method = directMethod(o.method, "horizon");
         const LoadedDem dem = load(o.dem);
-        constexpr double kDeg = 3.14159265358979323846 / 180.0;
         const auto start = std::chrono::steady_clock::now();
-        const MapRaster horizon = horizonMap(dem.grid, o.azimuthDeg * kDeg, method, o.threads);
+        const MapRaster horizon = horizonMap(dem.grid, o.azimuthDeg * kRadiansPerDegree, method, o.threads);
         writeVertexRaster(o.output, dem, horizon, RasterType::Float32, -9999.0);
         printRasterSummary("horizon angles", o.output, horizon, start);
         return 0;

@@ -31,18 +31,31 @@ void addDemOptions(CLI::App& cmd, DemOptions& dem) {
         ->check(CLI::PositiveNumber);
 }
 
-// Parses the --size and --sun texts shared by render and compare; prints one line and returns false on error.
+// The option parsers below print one error line and return false on malformed input.
+
+bool parseSunOption(const std::string& sun, double& azimuthDeg, double& elevationDeg) {
+    if (parsePair(sun, azimuthDeg, elevationDeg)) return true;
+    fmt::print(stderr, "terracast: error: --sun: expected AZ,EL in degrees, found '{}'\n", sun);
+    return false;
+}
+
+bool parseMethodOption(const std::string& name, SurfaceMethod& method) {
+    if (const auto m = parseSurfaceMethod(name)) {
+        method = *m;
+        return true;
+    }
+    fmt::print(stderr, "terracast: error: --method: expected one of {}, found '{}'\n", surfaceMethodList(), name);
+    return false;
+}
+
+// The --size and --sun texts shared by render and compare.
 bool parseViewOptions(const std::string& size, const std::string& sun, int& width, int& height, double& azimuthDeg,
                       double& elevationDeg) {
     if (!parseSize(size, width, height)) {
         fmt::print(stderr, "terracast: error: --size: expected WxH with positive integers, found '{}'\n", size);
         return false;
     }
-    if (!parsePair(sun, azimuthDeg, elevationDeg)) {
-        fmt::print(stderr, "terracast: error: --sun: expected AZ,EL in degrees, found '{}'\n", sun);
-        return false;
-    }
-    return true;
+    return parseSunOption(sun, azimuthDeg, elevationDeg);
 }
 
 }  // namespace
@@ -166,26 +179,14 @@ int main(int argc, char** argv) {
         return 2;
     }
 
-    auto parseMethodInto = [](const std::string& name, SurfaceMethod& out) {
-        const auto m = parseSurfaceMethod(name);
-        if (!m) {
-            fmt::print(stderr, "terracast: error: --method: expected one of {}, found '{}'\n", surfaceMethodList(), name);
-            return false;
-        }
-        out = *m;
-        return true;
-    };
     if (*infoCmd) return runInfo(info);
     if (*shadowCmd) {
-        if (!parsePair(shadowSun, shadow.sunAzimuthDeg, shadow.sunElevationDeg)) {
-            fmt::print(stderr, "terracast: error: --sun: expected AZ,EL in degrees, found '{}'\n", shadowSun);
-            return 2;
-        }
-        if (!parseMethodInto(shadowMethod, shadow.method)) return 2;
+        if (!parseSunOption(shadowSun, shadow.sunAzimuthDeg, shadow.sunElevationDeg)) return 2;
+        if (!parseMethodOption(shadowMethod, shadow.method)) return 2;
         return runShadow(shadow);
     }
     if (*horizonCmd) {
-        if (!parseMethodInto(horizonMethod, horizon.method)) return 2;
+        if (!parseMethodOption(horizonMethod, horizon.method)) return 2;
         return runHorizon(horizon);
     }
     if (*viewshedCmd) {
@@ -193,7 +194,7 @@ int main(int argc, char** argv) {
             fmt::print(stderr, "terracast: error: --observer: expected X,Y, found '{}'\n", observer);
             return 2;
         }
-        if (!parseMethodInto(viewshedMethod, viewshedOpts.method)) return 2;
+        if (!parseMethodOption(viewshedMethod, viewshedOpts.method)) return 2;
         return runViewshed(viewshedOpts);
     }
     if (*accuracyCmd) return runAccuracy(accuracy);
@@ -223,12 +224,7 @@ int main(int argc, char** argv) {
     if (*renderCmd) {
         if (!parseViewOptions(size, sun, render.width, render.height, render.sunAzimuthDeg, render.sunElevationDeg))
             return 2;
-        const auto m = parseSurfaceMethod(method);
-        if (!m) {
-            fmt::print(stderr, "terracast: error: --method: expected one of {}, found '{}'\n", surfaceMethodList(), method);
-            return 2;
-        }
-        render.method = *m;
+        if (!parseMethodOption(method, render.method)) return 2;
         if (view != "perspective" && view != "map") {
             fmt::print(stderr, "terracast: error: --view: expected perspective or map, found '{}'\n", view);
             return 2;

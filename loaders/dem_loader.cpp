@@ -44,7 +44,6 @@ std::string toLower(std::string s) {
     return s;
 }
 
-
 // Rejects missing files, folders and empty files before a reader sees them, so the message says what is wrong.
 void checkIsFile(const std::string& path) {
     if (path.starts_with("/vsi")) return;  // GDAL virtual file systems (/vsizip/, /vsicurl/, ...)
@@ -87,8 +86,6 @@ HeightGrid makeGrid(const std::string& path, int64_t width, int64_t height, doub
 }
 
 // ---- GDAL ----
-
-
 
 // GDAL's last error on this thread as " (message)", or "" when it gave none.
 std::string gdalReason() {

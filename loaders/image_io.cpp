@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 namespace terracast {
@@ -23,22 +24,46 @@ using namespace loader_support;
 
 namespace fs = std::filesystem;
 
+// Decodes an sRGB value in [0, 1] to linear.
+float linearFromSrgb(float encoded) {
+    return encoded <= 0.04045f ? encoded / 12.92f : std::pow((encoded + 0.055f) / 1.055f, 2.4f);
+}
 
+// The output's folder, after checking that it exists and may be written in (the user's to fix: InputError).
+fs::path writableFolder(const std::string& path) {
+    const fs::path target(path);
+    const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+    std::error_code ec;
+    if (!fs::is_directory(folder, ec))
+        throw InputError(fmt::format("{}: folder '{}' does not exist", path, folder.string()));
+    if (::access(folder.c_str(), W_OK) != 0)
+        throw InputError(fmt::format("{}: folder '{}' is not writable", path, folder.string()));
+    return folder;
+}
 
-// Encodes a linear value as sRGB in [0, 1]; values outside [0, 1] (and NaN) are clamped first.
+}  // namespace
+
 float srgbFromLinear(float linear) {
     if (!(linear > 0.0f)) return 0.0f;
     if (linear >= 1.0f) return 1.0f;
     return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
 }
 
-// Decodes an sRGB value in [0, 1] to linear.
-float linearFromSrgb(float encoded) {
-    return encoded <= 0.04045f ? encoded / 12.92f : std::pow((encoded + 0.055f) / 1.055f, 2.4f);
+void writeTextFile(const std::string& path, const std::string& text) {
+    const fs::path folder = writableFolder(path);
+    const fs::path target(path);
+    TemporaryFile temporary(folder / fmt::format(".{}.tmp{}", target.filename().string(), getpid()));
+    {
+        std::ofstream out(temporary.path(), std::ios::binary);
+        out << text;
+        out.flush();
+        if (!out) throw std::runtime_error(fmt::format("{}: cannot write in '{}'", path, folder.string()));
+    }
+    std::error_code ec;
+    fs::rename(temporary.path(), target, ec);
+    if (ec) throw std::runtime_error(fmt::format("{}: cannot write ({})", path, ec.message()));
+    temporary.release();
 }
-
-
-}  // namespace
 
 void writeImage(const std::string& path, const RgbImage& image) {
     const std::string ext = lowerExtension(path);
@@ -51,18 +76,13 @@ void writeImage(const std::string& path, const RgbImage& image) {
                                                 image.height, image.rgb.size()));
 
     const fs::path target(path);
-    const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+    const fs::path folder = writableFolder(path);
     std::error_code ec;
-    if (!fs::is_directory(folder, ec))
-        throw InputError(fmt::format("{}: folder '{}' does not exist", path, folder.string()));
 
     // The real extension stays last so that OpenImageIO picks the format from the temporary name.
     // Declared before the writer, so the writer closes its file before the file is removed.
     TemporaryFile temporary(folder / fmt::format(".{}.tmp{}{}", target.filename().string(), getpid(), ext));
-    // A folder we may not write in is the user's to fix (exit 2); a write that fails on the way (a full disk)
-    // is a runtime failure (exit 1).
-    if (::access(folder.c_str(), W_OK) != 0)
-        throw InputError(fmt::format("{}: folder '{}' is not writable", path, folder.string()));
+    // A write that fails on the way (a full disk) is a runtime failure (exit 1).
     auto fail = [&](const std::string& reason) {
         return std::runtime_error(fmt::format("{}: cannot write in '{}' ({})", path, folder.string(), firstLine(reason)));
     };

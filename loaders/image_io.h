@@ -1,4 +1,4 @@
-// Writing and reading pictures through OpenImageIO.
+// Writing and reading pictures through OpenImageIO, and writing small text outputs, always atomically.
 #pragma once
 
 #include <string>
@@ -20,6 +20,13 @@ struct RgbImage {
 // Writes to a temporary file in the same folder and renames it, so a failure never leaves a partial file.
 // Throws InputError for an unsupported extension or an unwritable folder.
 void writeImage(const std::string& path, const RgbImage& image);
+
+// Writes `text` to `path` through a temporary file in the same folder and a rename. Throws InputError for a
+// missing or unwritable folder, std::runtime_error when the write itself fails.
+void writeTextFile(const std::string& path, const std::string& text);
+
+// The sRGB encoding (IEC 61966-2-1) of a linear value, in [0, 1]; inputs outside [0, 1] and NaN are clamped.
+float srgbFromLinear(float linear);
 
 // Reads an image as linear RGB (PNG is decoded from sRGB). Throws InputError on failure.
 RgbImage readImage(const std::string& path);

@@ -30,11 +30,6 @@ using namespace loader_support;
 
 namespace fs = std::filesystem;
 
-
-
-
-
-
 // A Byte sample: rounded to the nearest integer and clamped to 0..255 (NaN becomes 0).
 uint8_t toByte(float value) {
     if (!(value > 0.0f)) return 0;
