@@ -29,18 +29,6 @@ float linearFromSrgb(float encoded) {
     return encoded <= 0.04045f ? encoded / 12.92f : std::pow((encoded + 0.055f) / 1.055f, 2.4f);
 }
 
-// The output's folder, after checking that it exists and may be written in (the user's to fix: InputError).
-fs::path writableFolder(const std::string& path) {
-    const fs::path target(path);
-    const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-    std::error_code ec;
-    if (!fs::is_directory(folder, ec))
-        throw InputError(fmt::format("{}: folder '{}' does not exist", path, folder.string()));
-    if (::access(folder.c_str(), W_OK) != 0)
-        throw InputError(fmt::format("{}: folder '{}' is not writable", path, folder.string()));
-    return folder;
-}
-
 }  // namespace
 
 float srgbFromLinear(float linear) {

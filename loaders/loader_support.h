@@ -1,7 +1,11 @@
 // Helpers shared by the loaders' sources (internal: only loaders/*.cpp include this; it pulls in GDAL).
 #pragma once
 
+#include "loaders/errors.h"
+
 #include <cpl_error.h>
+#include <fmt/format.h>
+#include <unistd.h>
 #include <gdal.h>
 
 #include <algorithm>
@@ -24,6 +28,19 @@ inline std::string firstLine(const std::string& message) {
     std::string line = message.substr(0, message.find('\n'));
     while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
     return line;
+}
+
+// The folder an output file goes to, after checking that it exists and may be written in; both are the
+// user's to fix, so failures are InputErrors naming the path.
+inline std::filesystem::path writableFolder(const std::string& path) {
+    const std::filesystem::path target(path);
+    const std::filesystem::path folder = target.parent_path().empty() ? std::filesystem::path(".") : target.parent_path();
+    std::error_code ec;
+    if (!std::filesystem::is_directory(folder, ec))
+        throw InputError(fmt::format("{}: folder '{}' does not exist", path, folder.string()));
+    if (::access(folder.c_str(), W_OK) != 0)
+        throw InputError(fmt::format("{}: folder '{}' is not writable", path, folder.string()));
+    return folder;
 }
 
 // Registers GDAL's drivers once per process.

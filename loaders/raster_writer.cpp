@@ -96,12 +96,8 @@ void writeGeoTiff(const std::string& path, const GridRaster& raster, RasterType 
         throw InputError(fmt::format("{}: unsupported output format '{}' (expected .tif)", path, ext));
 
     const fs::path target(path);
-    const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+    const fs::path folder = writableFolder(path);
     std::error_code ec;
-    if (!fs::is_directory(folder, ec))
-        throw InputError(fmt::format("{}: folder '{}' does not exist", path, folder.string()));
-    if (::access(folder.c_str(), W_OK) != 0)
-        throw InputError(fmt::format("{}: folder '{}' is not writable", path, folder.string()));
 
     registerGdalDrivers();
     QuietGdalErrors quiet;
