@@ -1,0 +1,147 @@
+// A scene as the scene file states it: plain data, every field with its documented default. The scene file
+// parser fills it; loaders attach the height grids it names; the scene renderer turns it into traceable objects.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace terracast {
+
+// Where an item was written in the scene file, for messages (1-based; 0 when not from a file).
+struct SourceLocation {
+    int line = 0;
+    int column = 0;
+};
+
+enum class CameraKind { Pinhole, Orthographic, ThinLens, Panorama, Fisheye };
+
+struct CameraDescription {
+    CameraKind kind = CameraKind::Pinhole;
+    // Eye and target in scene metres; unset means automatic framing of the terrain (or of all objects).
+    std::optional<glm::dvec3> eye;
+    std::optional<glm::dvec3> lookAt;
+    glm::dvec3 up{0, 0, 1};
+    double fovDeg = 40.0;              // pinhole and thin lens: vertical field of view; fisheye: full field
+    double orthoHeightM = 0.0;         // orthographic: metres the picture spans vertically; 0 = fit the scene
+    double apertureRadiusM = 0.0;      // thin lens: lens radius
+    double focusDistanceM = 0.0;       // thin lens: distance to the plane in focus; 0 = distance to lookAt
+    double shutterOpen = 0.0;          // motion blur: shutter interval in scene seconds
+    double shutterClose = 0.0;
+    glm::dvec3 velocity{0.0};          // motion blur: camera velocity, metres per second
+    SourceLocation where;
+};
+
+enum class FresnelModel { Schlick, Exact };
+enum class TerrainColouring { Elevation, Slope, Drape };
+
+struct MaterialDescription {
+    std::string name;
+    glm::vec3 colour{0.8f};            // diffuse albedo (linear RGB)
+    float kd = 1.0f;                   // diffuse weight
+    float ks = 0.0f;                   // Phong specular weight
+    float exponent = 32.0f;            // Phong exponent
+    glm::vec3 mirror{0.0f};            // mirror reflectance per channel (0 = none)
+    float gloss = 0.0f;                // glossy reflection lobe exponent; 0 = perfect mirror
+    bool dielectric = false;           // refracts: set by giving `ior`
+    glm::vec3 ior{1.5f};               // index of refraction; one per channel when dispersive
+    bool dispersive = false;           // true when the three indices differ (`ior_rgb`)
+    glm::vec3 absorptionPerM{0.0f};    // Beer-Lambert absorption coefficient inside the medium, per metre
+    FresnelModel fresnel = FresnelModel::Schlick;
+    // Terrain colouring (height fields only).
+    TerrainColouring terrain = TerrainColouring::Elevation;
+    std::string drapePath;             // RGB raster draped over the terrain (Drape), resolved to a usable path
+    SourceLocation where;
+    SourceLocation drapeWhere;         // of the `drape` key, for file errors
+};
+
+enum class ObjectKind { HeightField, Sphere, Plane, Triangle, Polygon, Box, Water };
+
+struct ObjectDescription {
+    ObjectKind kind = ObjectKind::Sphere;
+    std::string name;                  // for the debug ray tree; defaults to "<kind> <index>"
+    std::string material;              // material name; empty = the kind's default material
+    // Height field.
+    std::string filePath;              // resolved against the scene file's folder
+    glm::dvec3 offsetM{0.0};           // placement: where the grid's vertex (0, 0) goes
+    double exaggeration = 1.0;         // vertical exaggeration (heights times this)
+    std::string method = "bilinear";   // a surface method name (see surface.h)
+    double cellSizeM = 1.0;            // PNG height maps: metres between samples
+    double heightScale = 1.0;          // PNG height maps: metres per stored unit
+    // Sphere.
+    glm::dvec3 centre{0.0};
+    double radiusM = 1.0;
+    // Plane: a point on it and its normal.
+    glm::dvec3 point{0.0};
+    glm::dvec3 normal{0, 0, 1};
+    // Triangle and polygon: vertices in order.
+    std::vector<glm::dvec3> vertices;
+    // Box: opposite corners.
+    glm::dvec3 boxMin{0.0};
+    glm::dvec3 boxMax{1.0};
+    // Water: a horizontal surface at this level, clipped to the first height field's footprint.
+    double levelM = 0.0;
+    // Motion blur: linear velocity, metres per second.
+    glm::dvec3 velocity{0.0};
+    SourceLocation where;
+    SourceLocation fileWhere;          // of the `file` key, for file errors
+    SourceLocation materialWhere;      // of the `material` key
+};
+
+enum class LightKind { Sun, Point, Sphere };
+
+struct LightDescription {
+    LightKind kind = LightKind::Sun;
+    glm::vec3 colour{1.0f};
+    float intensity = 1.0f;            // sun: irradiance scale; point and sphere: radiant intensity scale (W/sr-like)
+    // Sun: direction towards it, by azimuth (clockwise from north) and elevation, or by a date and time.
+    double azimuthDeg = 315.0;
+    double elevationDeg = 35.0;
+    std::string time;                  // ISO 8601 UTC time; overrides azimuth/elevation when set
+    double angularRadiusDeg = 0.2679;  // the sun's apparent radius (soft shadows)
+    // Point and sphere lights.
+    glm::dvec3 position{0.0};
+    double radiusM = 0.0;              // sphere light radius
+    SourceLocation where;
+};
+
+enum class SkyKind { Physical, Gradient, Flat, None };
+
+struct SkyDescription {
+    SkyKind kind = SkyKind::Physical;
+    glm::vec3 colour{0.6f, 0.7f, 0.9f};  // flat sky colour
+    double haze = 1.0;                 // multiplies Mie scattering (physical sky)
+    bool aerialPerspective = true;     // haze in front of distant terrain (physical sky)
+    float ambient = 0.15f;             // ambient light as a fraction of the sky colour (all skies but none)
+    SourceLocation where;
+};
+
+struct RenderDescription {
+    int width = 960;
+    int height = 540;
+    int samples = 1;                   // samples per pixel
+    std::string sampler = "stratified";
+    std::string filter = "box";
+    int maxDepth = 6;                  // reflection/refraction bounces
+    double minWeight = 0.01;           // stop a path whose weight falls below this
+    uint64_t seed = 0;
+    int threads = 0;                   // 0 = all cores
+    std::string output;                // resolved against the scene file's folder; empty = not set
+    float exposure = 1.0f;             // multiplies radiance before encoding
+    SourceLocation where;
+};
+
+struct SceneDescription {
+    std::string path;                  // the scene file
+    CameraDescription camera;
+    std::vector<MaterialDescription> materials;
+    std::vector<ObjectDescription> objects;
+    std::vector<LightDescription> lights;  // empty = one default sun
+    SkyDescription sky;
+    RenderDescription render;
+};
+
+}  // namespace terracast
