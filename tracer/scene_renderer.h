@@ -1,0 +1,70 @@
+// The Whitted ray tracer over a Scene: shadow rays to each light, mirror reflection, refraction weighted by
+// Fresnel with total internal reflection, Beer-Lambert absorption inside media, a sky for escaping rays.
+#pragma once
+
+#include "tracer/film.h"
+#include "tracer/scene.h"
+#include "tracer/scene_camera.h"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace terracast {
+
+enum class RayKind { Primary, Shadow, Reflection, Refraction };
+const char* rayKindName(RayKind kind);
+
+struct SceneRenderSettings {
+    int width = 960;
+    int height = 540;
+    int samples = 1;            // per pixel; 1 traces the pixel centre
+    int maxDepth = 6;           // reflection and refraction bounces after the primary ray
+    double minWeight = 0.01;    // a secondary ray is not traced when its path weight falls below this
+    uint64_t seed = 0;
+    int threads = 0;            // 0 = all cores
+    int tileSize = 16;
+    float exposure = 1.0f;
+    // Called now and then with the fraction of pixels done and the rays traced so far (serialised).
+    std::function<void(double fraction, int64_t rays)> progress;
+};
+
+// Rays traced, by kind. `skyRays` counts rays of any kind except shadow rays that left the scene.
+struct SceneRayStats {
+    int64_t primary = 0;
+    int64_t shadow = 0;
+    int64_t reflection = 0;
+    int64_t refraction = 0;
+    int64_t skyRays = 0;
+    double seconds = 0.0;
+    int64_t total() const { return primary + shadow + reflection + refraction; }
+};
+
+// One ray of a pixel's ray tree (debug mode).
+struct RayRecord {
+    RayKind kind = RayKind::Primary;
+    int depth = 0;
+    glm::dvec3 origin{0.0};
+    glm::dvec3 dir{0.0};
+    std::string hit;              // object name, "sky", "light" (shadow ray reached the light) or "blocked"
+    double t = 0.0;               // distance to the hit (infinity for the sky)
+    glm::vec3 weight{1.0f};       // path weight of the ray
+    glm::vec3 contribution{0.0f}; // radiance the ray returns, times its weight
+};
+
+// The camera the description asks for, framing the scene automatically where eye or look_at are unset.
+SceneCamera makeSceneCamera(const Scene& scene, const CameraDescription& camera, double aspect);
+
+// Renders the scene into a linear RGB film (radiance times exposure).
+Film renderScene(const Scene& scene, const SceneCamera& camera, const SceneRenderSettings& settings,
+                 SceneRayStats* stats = nullptr);
+
+// Traces one pixel's samples and records every ray; returns the pixel's value.
+glm::vec3 tracePixel(const Scene& scene, const SceneCamera& camera, const SceneRenderSettings& settings, int x, int y,
+                     std::vector<RayRecord>* tree, SceneRayStats* stats = nullptr);
+
+// The sky radiance seen along a unit direction (also used for ambient light).
+glm::vec3 skyRadiance(const Scene& scene, const glm::dvec3& dir);
+
+}  // namespace terracast
