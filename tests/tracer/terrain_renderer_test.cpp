@@ -2,6 +2,7 @@
 #include "loaders/dem_loader.h"
 #include "loaders/image_io.h"
 #include "tracer/terrain_renderer.h"
+#include "support/golden.h"
 
 #include <catch2/catch.hpp>
 
@@ -123,31 +124,5 @@ TEST_CASE("Golden image: St Helens at 160x90 matches the committed reference", "
     s.threads = 2;
     s.camera = autoCamera(loaded.grid, 160.0 / 90.0);
     const Film film = renderTerrain(loaded.grid, TerrainSurface(loaded.grid, SurfaceMethod::Bilinear), s);
-    RgbImage image{film.width, film.height, film.rgb};
-    if (std::getenv("TERRACAST_UPDATE_GOLDEN")) writeImage(golden, image);
-    // Compare in 8-bit sRGB terms, as stored: mean absolute difference under 0.5 levels and at most 0.5 %
-    // of samples off by more than 8 levels (a changed pixel here and there from compiler rounding is fine;
-    // a changed picture is not).
-    const std::string tmp = (std::filesystem::temp_directory_path() / "terracast-golden-now.png").string();
-    writeImage(tmp, image);
-    const RgbImage now = readImage(tmp), ref = readImage(golden);
-    std::filesystem::remove(tmp);
-    REQUIRE(now.width == ref.width);
-    REQUIRE(now.height == ref.height);
-    auto toLevel = [](float linear) {
-        const float c = std::clamp(linear, 0.0f, 1.0f);
-        const float s = c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-        return 255.0f * s;
-    };
-    double sum = 0.0;
-    size_t off = 0;
-    for (size_t k = 0; k < now.rgb.size(); ++k) {
-        const double d = std::abs(toLevel(now.rgb[k]) - toLevel(ref.rgb[k]));
-        sum += d;
-        off += d > 8.0;
-    }
-    const double mean = sum / double(now.rgb.size());
-    INFO("mean difference " << mean << " levels, " << off << " samples off by more than 8 levels");
-    CHECK(mean < 0.5);
-    CHECK(double(off) <= 0.005 * double(now.rgb.size()));
+    testing::checkGolden(RgbImage{film.width, film.height, film.rgb}, golden);
 }

@@ -1,0 +1,130 @@
+#include "loaders/scene_assets.h"
+
+#include "loaders/loader_support.h"
+
+#include <gdal_priv.h>
+#include <gdal_utils.h>
+
+#include <cmath>
+
+namespace terracast {
+
+using namespace loader_support;
+
+namespace {
+
+std::string where(const SceneDescription& scene, const SourceLocation& at) {
+    return fmt::format("{}:{}:{}: ", scene.path, at.line, at.column);
+}
+
+// The sRGB transfer function inverted (IEC 61966-2-1): 8-bit orthophotos are stored sRGB-encoded.
+float linearFromSrgb(float c) {
+    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+// Warps `source` onto the DEM's lattice with GDAL's warper (bilinear), into an in-memory dataset.
+GDALDatasetUniquePtr warpOntoDem(const std::string& path, GDALDataset& source, const GeoReference& dem,
+                                 int64_t width, int64_t height) {
+    // The DEM's samples are the grid's vertices: the target raster has one pixel per vertex, with the DEM's
+    // own geotransform.
+    const double* gt = dem.geoTransform;
+    const double xs[2] = {gt[0], gt[0] + gt[1] * double(width)};
+    const double ys[2] = {gt[3], gt[3] + gt[5] * double(height)};
+    const std::vector<std::string> args{"-of", "MEM", "-r", "bilinear", "-t_srs", dem.crsWkt, "-te",
+                                        fmt::format("{:.17g}", std::min(xs[0], xs[1])),
+                                        fmt::format("{:.17g}", std::min(ys[0], ys[1])),
+                                        fmt::format("{:.17g}", std::max(xs[0], xs[1])),
+                                        fmt::format("{:.17g}", std::max(ys[0], ys[1])),
+                                        "-ts", std::to_string(width), std::to_string(height)};
+    std::vector<char*> argv;
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    GDALWarpAppOptions* options = GDALWarpAppOptionsNew(argv.data(), nullptr);
+    GDALDatasetH sourceHandle = GDALDataset::ToHandle(&source);
+    int usageError = 0;
+    GDALDatasetH out = GDALWarp("", nullptr, 1, &sourceHandle, options, &usageError);
+    GDALWarpAppOptionsFree(options);
+    if (!out) throw InputError(path + ": could not be resampled onto the DEM's grid: " + firstLine(CPLGetLastErrorMsg()));
+    return GDALDatasetUniquePtr(GDALDataset::FromHandle(out));
+}
+
+}  // namespace
+
+DrapeImage loadDrape(const std::string& path, const GeoReference& dem, int64_t width, int64_t height) {
+    registerGdalDrivers();
+    QuietGdalErrors quiet;
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
+    GDALDatasetUniquePtr dataset(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+    if (!dataset) throw InputError(path + ": not a raster GDAL can read");
+    const int bands = dataset->GetRasterCount();
+    if (bands < 1) throw InputError(path + ": raster has no band");
+    const bool georeferenced = dem.georeferenced && !dem.crsWkt.empty() && dataset->GetSpatialRef() != nullptr;
+    GDALDatasetUniquePtr warped;
+    GDALDataset* src = dataset.get();
+    if (georeferenced) {
+        warped = warpOntoDem(path, *dataset, dem, width, height);
+        src = warped.get();
+    }
+    DrapeImage image;
+    image.width = src->GetRasterXSize();
+    image.height = src->GetRasterYSize();
+    if (image.width < 1 || image.height < 1) throw InputError(path + ": raster is empty");
+    const size_t pixels = size_t(image.width) * size_t(image.height);
+    image.rgb.assign(pixels * 3, 0.0f);
+    std::vector<float> band(pixels);
+    // Bytes are sRGB-encoded 0..255; other types are taken as linear 0..1 reflectance.
+    const bool bytes = dataset->GetRasterBand(1)->GetRasterDataType() == GDT_Byte;
+    for (int c = 0; c < 3; ++c) {
+        GDALRasterBand* b = src->GetRasterBand(std::min(c + 1, bands < 3 ? 1 : 3));
+        if (b->RasterIO(GF_Read, 0, 0, image.width, image.height, band.data(), image.width, image.height, GDT_Float32,
+                        0, 0) != CE_None)
+            throw InputError(path + ": could not be read: " + firstLine(CPLGetLastErrorMsg()));
+        for (size_t k = 0; k < pixels; ++k)
+            image.rgb[k * 3 + size_t(c)] = bytes ? linearFromSrgb(std::clamp(band[k] / 255.0f, 0.0f, 1.0f))
+                                                 : std::clamp(band[k], 0.0f, 1.0f);
+    }
+    return image;
+}
+
+LoadedSceneAssets loadSceneAssets(const SceneDescription& scene, double maxBytes) {
+    LoadedSceneAssets out;
+    for (const ObjectDescription& o : scene.objects) {
+        if (o.kind != ObjectKind::HeightField) continue;
+        DemLoadOptions options;
+        options.imageCellSizeM = o.cellSizeM;
+        options.imageHeightScale = o.heightScale;
+        options.maxBytes = maxBytes;
+        try {
+            LoadedDem dem = loadDem(o.filePath, options);
+            if (o.exaggeration != 1.0) dem.grid.scaleHeights(float(o.exaggeration));
+            for (auto& w : dem.warnings) out.warnings.push_back(w);
+            out.bytes += double(dem.grid.memoryBytes());
+            out.geo.push_back(dem.geo);
+            out.assets.grids.push_back(std::make_shared<const HeightGrid>(std::move(dem.grid)));
+        } catch (const InputError& e) {
+            throw InputError(where(scene, o.fileWhere) + e.what());
+        } catch (const GridError& e) {
+            throw InputError(where(scene, o.fileWhere) + e.what());
+        }
+    }
+    for (const MaterialDescription& m : scene.materials) {
+        if (m.terrain != TerrainColouring::Drape || m.drapePath.empty()) {
+            out.assets.drapes.push_back(nullptr);
+            continue;
+        }
+        if (out.assets.grids.empty())
+            throw InputError(where(scene, m.drapeWhere) + "a drape needs a height field in the scene");
+        const HeightGrid& grid = *out.assets.grids.front();
+        try {
+            auto drape = std::make_shared<DrapeImage>(loadDrape(m.drapePath, out.geo.front(), grid.width(), grid.height()));
+            out.bytes += double(drape->rgb.size() * sizeof(float));
+            out.assets.drapes.push_back(std::move(drape));
+        } catch (const InputError& e) {
+            throw InputError(where(scene, m.drapeWhere) + e.what());
+        }
+    }
+    return out;
+}
+
+}  // namespace terracast

@@ -1,0 +1,29 @@
+// Loading what a scene file names: the DEM of each height-field object and the raster draped by a material.
+#pragma once
+
+#include "loaders/dem_loader.h"
+#include "tracer/scene.h"
+
+#include <string>
+#include <vector>
+
+namespace terracast {
+
+struct LoadedSceneAssets {
+    SceneAssets assets;
+    std::vector<GeoReference> geo;       // per height field, in object order
+    std::vector<std::string> warnings;   // one line each
+    double bytes = 0.0;                  // memory held by grids and drapes
+};
+
+// Loads each height field's DEM (with its own cell size and height scale, scaled by its exaggeration) and each
+// material's drape, resampled onto the first height field's grid through its georeference (or stretched over
+// the footprint when either raster has none). Errors are InputErrors prefixed with the scene file's
+// `path:line:column` of the key that named the file. `maxBytes` bounds each DEM as in loadDem.
+LoadedSceneAssets loadSceneAssets(const SceneDescription& scene, double maxBytes = 0.0);
+
+// Reads an RGB(A) or grey raster as linear RGB, warped onto the lattice of `dem` when both are georeferenced:
+// `width` x `height` samples at the DEM's vertices, row 0 at the north edge.
+DrapeImage loadDrape(const std::string& path, const GeoReference& dem, int64_t width, int64_t height);
+
+}  // namespace terracast
