@@ -720,6 +720,34 @@ TEST_CASE("Scene file: water needs a height field in the scene", "[loaders]") {
           "footprint)");
 }
 
+TEST_CASE("Scene file: the examples of docs/scene-format.md together form a valid scene", "[loaders]") {
+    std::ifstream page(TERRACAST_SOURCE_DIR "/docs/scene-format.md");
+    REQUIRE(page);
+    std::string line;
+    std::string scene;
+    int blocks = 0;
+    bool inBlock = false;
+    while (std::getline(page, line)) {
+        if (line == "```toml") {
+            inBlock = true;
+            ++blocks;
+        } else if (inBlock && line == "```") {
+            inBlock = false;
+        } else if (inBlock) {
+            scene += line + "\n";
+        }
+    }
+    CHECK(blocks == 7);  // the smallest scene and one example for each of the six sections
+    const TempDir dir("scene-docs");
+    for (const char* name : {"dem.tif", "white-mountains.hgt"}) std::ofstream(dir.file(name)) << "x";
+    const SceneDescription s = parseSceneText(scene, "scene-format.md", dir.path().string());
+    CHECK(s.objects.size() == 5);
+    CHECK(s.materials.size() == 2);
+    CHECK(s.lights.size() == 2);
+    CHECK(s.camera.kind == CameraKind::ThinLens);
+    CHECK(s.render.samples == 16);
+}
+
 // Byte flips, truncations and swapped lines of a valid scene: whatever the damage, parsing either succeeds or
 // throws an InputError of one line that starts with the file name and a line and column.
 TEST_CASE("Scene file: 2000 random mutations of a valid scene only ever raise located InputErrors", "[loaders]") {
