@@ -1,0 +1,1220 @@
+// Scene-file parser. toml++ turns the text into a tree that remembers where every key and value was written;
+// each table is then checked against a schema of the keys it takes (per object, camera or light type) before
+// any value is read, so a misspelt key is reported as such rather than as a missing one. Values are read with
+// their type and range checked, and every error names the scene file, the line and column of the offending
+// key or value, what was expected and what was found. docs/scene-format.md is the reference for the format.
+#include "loaders/scene_file.h"
+
+#include "loaders/errors.h"
+#include "tracer/surface.h"
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <optional>
+#include <span>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace terracast {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kFloatMax = std::numeric_limits<float>::max();
+constexpr size_t kQuotedCharsMax = 60;     // user text quoted in a message is cut after this many bytes
+constexpr size_t kSuggestedKeyMax = 64;    // longer words get no near-miss suggestion (edit distance is O(n m))
+// A polygon is planar when no vertex lies farther than this fraction of its bounding box's largest side from
+// its plane, and degenerate when twice its area is below this fraction of that side squared.
+constexpr double kPlanarTolerance = 1e-6;
+constexpr double kDegenerateArea = 1e-10;
+
+// ---- Text in messages ----
+
+// `text` on one line: control characters escaped, and cut at a UTF-8 boundary after `maxBytes` bytes.
+std::string printable(std::string_view text, size_t maxBytes = kQuotedCharsMax) {
+    std::string out;
+    for (const char ch : text) {
+        const auto c = static_cast<unsigned char>(ch);
+        if (out.size() >= maxBytes && (c & 0xC0) != 0x80) {
+            out += "...";
+            break;
+        }
+        if (c == '\n') out += "\\n";
+        else if (c == '\r') out += "\\r";
+        else if (c == '\t') out += "\\t";
+        else if (c < 0x20 || c == 0x7F) out += fmt::format("\\x{:02x}", c);
+        else out += ch;
+    }
+    return out;
+}
+
+std::string quoteKey(std::string_view key) { return fmt::format("'{}'", printable(key)); }
+
+std::string quoteString(std::string_view text) {
+    std::string escaped;
+    for (const char c : text) {
+        if (c == '"' || c == '\\') escaped += '\\';
+        escaped += c;
+    }
+    return fmt::format("\"{}\"", printable(escaped));
+}
+
+std::string quoteAll(std::span<const std::string> words) {
+    std::string out;
+    for (size_t i = 0; i < words.size(); ++i) out += (i == 0 ? "" : ", ") + quoteString(words[i]);
+    return out;
+}
+
+// What a TOML node is, with its article, for "found ..." phrases.
+std::string describeType(const toml::node& node) {
+    switch (node.type()) {
+        case toml::node_type::string: return "a string";
+        case toml::node_type::integer: return "an integer";
+        case toml::node_type::floating_point: return "a floating-point number";
+        case toml::node_type::boolean: return "a boolean";
+        case toml::node_type::array: return node.is_array_of_tables() ? "an array of tables" : "an array";
+        case toml::node_type::table: return "a table";
+        case toml::node_type::date: return "a date";
+        case toml::node_type::time: return "a time";
+        case toml::node_type::date_time: return "a date-time";
+        case toml::node_type::none: break;
+    }
+    return "nothing";
+}
+
+// ---- Near misses ----
+
+// Optimal string alignment distance (Levenshtein's edits plus adjacent transpositions, after Damerau 1964),
+// ignoring ASCII case.
+size_t editDistance(std::string_view a, std::string_view b) {
+    const auto lower = [](char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); };
+    std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
+    for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+    for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+        for (size_t j = 1; j <= b.size(); ++j) {
+            const size_t cost = lower(a[i - 1]) == lower(b[j - 1]) ? 0 : 1;
+            d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+            if (i > 1 && j > 1 && lower(a[i - 1]) == lower(b[j - 2]) && lower(a[i - 2]) == lower(b[j - 1]))
+                d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+        }
+    }
+    return d[a.size()][b.size()];
+}
+
+// The candidate closest to `word` if it is close enough to be a slip of the keyboard: one edit for words of
+// up to four letters, two up to eight, three beyond. Ties go to the earlier candidate.
+std::optional<std::string> nearMiss(std::string_view word, std::span<const std::string> candidates) {
+    if (word.size() > kSuggestedKeyMax) return std::nullopt;
+    const size_t allowed = word.size() <= 4 ? 1 : word.size() <= 8 ? 2 : 3;
+    std::optional<std::string> best;
+    size_t bestDistance = allowed + 1;
+    for (const auto& candidate : candidates) {
+        const size_t distance = editDistance(word, candidate);
+        if (distance < bestDistance) {
+            bestDistance = distance;
+            best = candidate;
+        }
+    }
+    return best;
+}
+
+// " (did you mean 'radius'?)" when a candidate is close to `word`, else "".
+std::string didYouMean(std::string_view word, std::span<const std::string> candidates, bool asKey) {
+    const auto best = nearMiss(word, candidates);
+    if (!best) return "";
+    return fmt::format(" (did you mean {}?)", asKey ? quoteKey(*best) : quoteString(*best));
+}
+
+// ---- Value ranges ----
+
+// An interval of accepted numbers; infinite ends are open and not written in messages.
+struct Range {
+    double lo = -kInf;
+    double hi = kInf;
+    bool loClosed = true;
+    bool hiClosed = true;
+
+    bool contains(double v) const {
+        return (loClosed ? v >= lo : v > lo) && (hiClosed ? v <= hi : v < hi);
+    }
+    // " > 0", " >= 0", " in (0, 180)", or "" for every number.
+    std::string describe() const {
+        if (lo == -kInf && hi == kInf) return "";
+        if (hi == kInf) return fmt::format(" {} {}", loClosed ? ">=" : ">", lo);
+        if (lo == -kInf) return fmt::format(" {} {}", hiClosed ? "<=" : "<", hi);
+        return fmt::format(" in {}{}, {}{}", loClosed ? '[' : '(', lo, hi, hiClosed ? ']' : ')');
+    }
+};
+
+constexpr Range kAnyNumber{};
+constexpr Range kNonNegative{0.0, kInf, true, true};
+constexpr Range kPositive{0.0, kInf, false, true};
+
+// ---- Locations and errors ----
+
+SourceLocation locationOf(const toml::source_region& region, SourceLocation fallback) {
+    if (region.begin.line == 0) return fallback;
+    const auto clamp = [](toml::source_index i) { return static_cast<int>(std::min<toml::source_index>(i, INT_MAX)); };
+    return {clamp(region.begin.line), clamp(region.begin.column)};
+}
+
+// The scene file being parsed: its name for messages and the folder its relative paths start from.
+class SceneContext {
+public:
+    SceneContext(std::string path, std::string baseDir) : path_(std::move(path)), baseDir_(std::move(baseDir)) {}
+
+    [[noreturn]] void fail(SourceLocation where, const std::string& message) const {
+        throw InputError(fmt::format("{}:{}:{}: {}", path_, where.line, where.column, message));
+    }
+
+    // A path from the scene, made relative to the scene's folder unless it is absolute.
+    std::string resolve(const std::string& path) const {
+        if (path.starts_with("/vsi")) return path;  // GDAL virtual file systems keep their exact spelling
+        const std::filesystem::path p(path);
+        if (p.is_absolute() || baseDir_.empty()) return p.lexically_normal().string();
+        return (std::filesystem::path(baseDir_) / p).lexically_normal().string();
+    }
+
+private:
+    std::string path_;
+    std::string baseDir_;
+};
+
+// A keyword accepted by a key, and the value it stands for.
+template <typename E>
+struct Choice {
+    std::string_view name;
+    E value;
+};
+
+template <typename E>
+std::vector<std::string> choiceNames(std::span<const Choice<E>> choices) {
+    std::vector<std::string> names;
+    for (const auto& c : choices) names.emplace_back(c.name);
+    return names;
+}
+
+template <typename E>
+std::string_view choiceName(std::span<const Choice<E>> choices, E value) {
+    for (const auto& c : choices)
+        if (c.value == value) return c.name;
+    return "";
+}
+
+// One table of the scene file, with typed, range-checked access to its keys. Every reader returns nothing
+// when the key is absent and throws InputError at the value's location when it is malformed.
+class TableReader {
+public:
+    TableReader(const SceneContext& scene, const toml::table& table, std::string label, SourceLocation fallback)
+        : scene_(scene), table_(table), label_(std::move(label)), where_(locationOf(table.source(), fallback)) {}
+
+    const std::string& label() const { return label_; }
+    SourceLocation where() const { return where_; }
+    bool has(std::string_view key) const { return table_.contains(key); }
+    const toml::node* node(std::string_view key) const { return table_.get(key); }
+
+    [[noreturn]] void fail(SourceLocation where, const std::string& message) const { scene_.fail(where, message); }
+
+    SourceLocation keyWhere(std::string_view key) const {
+        for (auto&& [k, v] : table_)
+            if (k.str() == key) return locationOf(k.source(), locationOf(v.source(), where_));
+        return where_;
+    }
+    SourceLocation valueWhere(std::string_view key) const {
+        const toml::node* n = table_.get(key);
+        return n ? whereOf(*n) : where_;
+    }
+    SourceLocation whereOf(const toml::node& n) const { return locationOf(n.source(), where_); }
+
+    // The table's keys in the order they were written.
+    std::vector<std::pair<std::string, SourceLocation>> keysInOrder() const {
+        std::vector<std::pair<std::string, SourceLocation>> keys;
+        for (auto&& [k, v] : table_) keys.emplace_back(std::string(k.str()), locationOf(k.source(), whereOf(v)));
+        std::stable_sort(keys.begin(), keys.end(), [](const auto& a, const auto& b) {
+            return std::pair(a.second.line, a.second.column) < std::pair(b.second.line, b.second.column);
+        });
+        return keys;
+    }
+
+    // Refuses the table, at its header, when it lacks `key`.
+    void require(std::string_view key, const std::string& subject) const {
+        if (!has(key)) fail(where_, fmt::format("missing required key {} {}", quoteKey(key), subject));
+    }
+
+    // A number in `range`; TOML integers are accepted where numbers are expected.
+    double numberFrom(const toml::node& n, const std::string& name, Range range) const {
+        double value = 0.0;
+        if (const auto* i = n.as_integer()) value = static_cast<double>(i->get());
+        else if (const auto* f = n.as_floating_point()) value = f->get();
+        else fail(whereOf(n), fmt::format("{}: expected a number{}, found {}", name, range.describe(), describeType(n)));
+        if (!std::isfinite(value))
+            fail(whereOf(n), fmt::format("{}: expected a finite number{}, found {}", name, range.describe(), value));
+        if (!range.contains(value))
+            fail(whereOf(n), fmt::format("{}: expected a number{}, found {}", name, range.describe(), value));
+        return value;
+    }
+
+    std::optional<double> number(std::string_view key, Range range = kAnyNumber) const {
+        const toml::node* n = node(key);
+        if (!n) return std::nullopt;
+        return numberFrom(*n, std::string(key), range);
+    }
+
+    // A number stored in single precision: also refuses magnitudes a float cannot hold.
+    std::optional<float> singleNumber(std::string_view key, Range range = kAnyNumber) const {
+        const toml::node* n = node(key);
+        if (!n) return std::nullopt;
+        return toSingle(*n, std::string(key), numberFrom(*n, std::string(key), range));
+    }
+
+    std::optional<int64_t> integer(std::string_view key, int64_t lo, int64_t hi) const {
+        const toml::node* n = node(key);
+        if (!n) return std::nullopt;
+        const std::string expected = hi == std::numeric_limits<int64_t>::max()
+                                         ? fmt::format("an integer >= {}", lo)
+                                         : fmt::format("an integer in {}..{}", lo, hi);
+        const auto* i = n->as_integer();
+        if (!i) fail(whereOf(*n), fmt::format("{}: expected {}, found {}", key, expected, describeType(*n)));
+        if (i->get() < lo || i->get() > hi)
+            fail(whereOf(*n), fmt::format("{}: expected {}, found {}", key, expected, i->get()));
+        return i->get();
+    }
+
+    std::optional<bool> boolean(std::string_view key) const {
+        const toml::node* n = node(key);
+        if (!n) return std::nullopt;
+        const auto* b = n->as_boolean();
+        if (!b) fail(whereOf(*n), fmt::format("{}: expected true or false, found {}", key, describeType(*n)));
+        return b->get();
+    }
+
+    std::optional<std::string> string(std::string_view key) const {
+        const toml::node* n = node(key);
+        if (!n) return std::nullopt;
+        const auto* s = n->as_string();
+        if (!s) fail(whereOf(*n), fmt::format("{}: expected a string, found {}", key, describeType(*n)));
+        return s->get();
+    }
+
+    std::optional<std::string> nonEmptyString(std::string_view key) const {
+        auto s = string(key);
+        if (s && s->empty()) fail(valueWhere(key), fmt::format("{}: expected a non-empty string, found \"\"", key));
+        return s;
+    }
+
+    // A file path: not empty, and without NUL characters (the system would see only the part before one).
+    std::optional<std::string> path(std::string_view key) const {
+        auto s = nonEmptyString(key);
+        if (s && s->find('\0') != std::string::npos)
+            fail(valueWhere(key), fmt::format("{}: expected a file path, found a string with a NUL character", key));
+        return s;
+    }
+
+    // One of a fixed set of keywords, with a near-miss suggestion when the value is not among them.
+    template <typename E>
+    std::optional<E> choice(std::string_view key, std::span<const Choice<E>> choices) const {
+        const auto text = string(key);
+        if (!text) return std::nullopt;
+        for (const auto& c : choices)
+            if (c.name == *text) return c.value;
+        const auto names = choiceNames(choices);
+        fail(valueWhere(key), fmt::format("{}: expected one of {}, found {}{}", key, quoteAll(names),
+                                          quoteString(*text), didYouMean(*text, names, false)));
+    }
+
+    // Three numbers [x, y, z] in `range` each.
+    std::optional<glm::dvec3> vector3(std::string_view key, Range range = kAnyNumber,
+                                      std::string_view form = "[x, y, z]") const {
+        const toml::node* n = node(key);
+        if (!n) return std::nullopt;
+        return vector3From(*n, std::string(key), range, form);
+    }
+
+    // A direction: three numbers, not all zero.
+    std::optional<glm::dvec3> direction(std::string_view key) const {
+        const auto d = vector3(key);
+        if (d && *d == glm::dvec3(0.0))
+            fail(valueWhere(key), fmt::format("{}: expected a non-zero direction, found [0, 0, 0]", key));
+        return d;
+    }
+
+    // An RGB triple [r, g, b] in `range`, or with `scalarAllowed` one number for all three channels.
+    std::optional<glm::vec3> rgb(std::string_view key, Range range, bool scalarAllowed) const {
+        const toml::node* n = node(key);
+        if (!n) return std::nullopt;
+        const std::string name(key);
+        if (scalarAllowed && (n->is_integer() || n->is_floating_point()))
+            return glm::vec3(toSingle(*n, name, numberFrom(*n, name, range)));
+        if (scalarAllowed && !n->is_array())
+            fail(whereOf(*n), fmt::format("{}: expected a number or an array of 3 numbers [r, g, b], found {}", key,
+                                          describeType(*n)));
+        const glm::dvec3 v = vector3From(*n, name, range, "[r, g, b]");
+        glm::vec3 out;
+        for (int c = 0; c < 3; ++c)
+            out[c] = toSingle(*n->as_array()->get(static_cast<size_t>(c)), fmt::format("{}[{}]", key, c), v[c]);
+        return out;
+    }
+
+    // A list of points [[x, y, z], ...].
+    std::optional<std::vector<glm::dvec3>> points(std::string_view key) const {
+        const toml::node* n = node(key);
+        if (!n) return std::nullopt;
+        const auto* array = n->as_array();
+        if (!array)
+            fail(whereOf(*n), fmt::format("{}: expected an array of points [[x, y, z], ...], found {}", key,
+                                          describeType(*n)));
+        std::vector<glm::dvec3> result;
+        for (size_t i = 0; i < array->size(); ++i)
+            result.push_back(vector3From(*array->get(i), fmt::format("{}[{}]", key, i), kAnyNumber, "[x, y, z]"));
+        return result;
+    }
+
+    // Two numbers [a, b] with a <= b.
+    std::optional<std::array<double, 2>> orderedPair(std::string_view key, std::string_view form) const {
+        const toml::node* n = node(key);
+        if (!n) return std::nullopt;
+        const auto* array = n->as_array();
+        if (!array || array->size() != 2)
+            fail(whereOf(*n), fmt::format("{}: expected an array of 2 numbers {}, found {}", key, form,
+                                          foundArray(*n)));
+        const double a = numberFrom(*array->get(0), fmt::format("{}[0]", key), kAnyNumber);
+        const double b = numberFrom(*array->get(1), fmt::format("{}[1]", key), kAnyNumber);
+        if (a > b) fail(whereOf(*n), fmt::format("{}: expected {} in increasing order, found [{}, {}]", key, form, a, b));
+        return std::array<double, 2>{a, b};
+    }
+
+private:
+    // "an array of 2 values" for arrays, the type otherwise.
+    static std::string foundArray(const toml::node& n) {
+        const auto* array = n.as_array();
+        if (!array) return describeType(n);
+        return fmt::format("an array of {} value{}", array->size(), array->size() == 1 ? "" : "s");
+    }
+
+    glm::dvec3 vector3From(const toml::node& n, const std::string& name, Range range, std::string_view form) const {
+        const auto* array = n.as_array();
+        if (!array || array->size() != 3)
+            fail(whereOf(n), fmt::format("{}: expected an array of 3 numbers {}, found {}", name, form, foundArray(n)));
+        glm::dvec3 v;
+        for (int c = 0; c < 3; ++c) v[c] = numberFrom(*array->get(static_cast<size_t>(c)), fmt::format("{}[{}]", name, c), range);
+        return v;
+    }
+
+    float toSingle(const toml::node& n, const std::string& name, double value) const {
+        if (std::abs(value) > kFloatMax)
+            fail(whereOf(n), fmt::format("{}: expected a number of magnitude at most {:.3g}, found {}", name,
+                                         kFloatMax, value));
+        return static_cast<float>(value);
+    }
+
+    const SceneContext& scene_;
+    const toml::table& table_;
+    std::string label_;
+    SourceLocation where_;
+};
+
+// ---- Schemas ----
+
+// A key a table takes and the types (or sky models) that take it; none listed: every type.
+struct KeyRule {
+    std::string_view key;
+    std::vector<std::string_view> types;
+};
+
+// Refuses, in the order they were written, keys the table's type does not take: keys of another type name
+// the types that take them; other keys get a near-miss suggestion among the keys this type takes.
+void checkKeys(const TableReader& table, std::span<const KeyRule> rules, std::string_view type,
+               const std::string& subject) {
+    std::vector<std::string> taken;
+    for (const auto& rule : rules)
+        if (rule.types.empty() || std::find(rule.types.begin(), rule.types.end(), type) != rule.types.end())
+            taken.emplace_back(rule.key);
+    for (const auto& [key, where] : table.keysInOrder()) {
+        if (std::find(taken.begin(), taken.end(), key) != taken.end()) continue;
+        const auto rule = std::find_if(rules.begin(), rules.end(), [&](const KeyRule& r) { return r.key == key; });
+        if (rule != rules.end()) {
+            const std::vector<std::string> owners(rule->types.begin(), rule->types.end());
+            table.fail(where, fmt::format("key {} does not apply to {} (only to {})", quoteKey(key), subject,
+                                          quoteAll(owners)));
+        }
+        table.fail(where, fmt::format("unknown key {} in {}{}", quoteKey(key), table.label(),
+                                      didYouMean(key, taken, true)));
+    }
+}
+
+// Before `type` is known: a key no type takes that is a near miss of the missing `required` key is reported
+// as the slip it probably is, rather than as a missing key.
+void refuseMisspeltKey(const TableReader& table, std::span<const KeyRule> rules, std::string_view required) {
+    const std::vector<std::string> wanted{std::string(required)};
+    for (const auto& [key, where] : table.keysInOrder()) {
+        const bool known =
+            std::any_of(rules.begin(), rules.end(), [&](const KeyRule& r) { return r.key == key; });
+        if (!known && nearMiss(key, wanted))
+            table.fail(where, fmt::format("unknown key {} in {}{}", quoteKey(key), table.label(),
+                                          didYouMean(key, wanted, true)));
+    }
+}
+
+// ---- Camera ----
+
+constexpr std::array<Choice<CameraKind>, 5> kCameraKinds{{
+    {"pinhole", CameraKind::Pinhole},
+    {"orthographic", CameraKind::Orthographic},
+    {"thin-lens", CameraKind::ThinLens},
+    {"panorama", CameraKind::Panorama},
+    {"fisheye", CameraKind::Fisheye},
+}};
+
+const std::vector<KeyRule> kCameraKeys{
+    {"type", {}},
+    {"eye", {}},
+    {"look_at", {}},
+    {"up", {}},
+    {"fov", {"pinhole", "thin-lens", "fisheye"}},
+    {"height", {"orthographic"}},
+    {"aperture", {"thin-lens"}},
+    {"focus_distance", {"thin-lens"}},
+    {"shutter", {}},
+    {"velocity", {}},
+};
+
+constexpr double kFisheyeDefaultFovDeg = 180.0;
+constexpr double kParallelSine = 1e-9;  // up is parallel to the view when the sine of their angle is below this
+
+CameraDescription parseCamera(const TableReader& t) {
+    CameraDescription camera;
+    camera.where = t.where();
+    camera.kind = t.choice<CameraKind>("type", kCameraKinds).value_or(CameraKind::Pinhole);
+    const std::string_view type = choiceName<CameraKind>(kCameraKinds, camera.kind);
+    checkKeys(t, kCameraKeys, type, fmt::format("a camera of type {}", quoteString(type)));
+
+    camera.eye = t.vector3("eye");
+    camera.lookAt = t.vector3("look_at");
+    if (const auto up = t.direction("up")) camera.up = *up;
+    const bool fisheye = camera.kind == CameraKind::Fisheye;
+    if (fisheye) camera.fovDeg = kFisheyeDefaultFovDeg;
+    if (const auto fov = t.number("fov", fisheye ? Range{0.0, 360.0, false, true} : Range{0.0, 180.0, false, false}))
+        camera.fovDeg = *fov;
+    if (const auto h = t.number("height", kPositive)) camera.orthoHeightM = *h;
+    if (const auto a = t.number("aperture", kNonNegative)) camera.apertureRadiusM = *a;
+    if (const auto f = t.number("focus_distance", kNonNegative)) camera.focusDistanceM = *f;
+    if (const auto s = t.orderedPair("shutter", "[open, close]")) {
+        camera.shutterOpen = (*s)[0];
+        camera.shutterClose = (*s)[1];
+    }
+    if (const auto v = t.vector3("velocity")) camera.velocity = *v;
+
+    if (camera.eye && camera.lookAt) {
+        const glm::dvec3 view = *camera.lookAt - *camera.eye;
+        if (view == glm::dvec3(0.0))
+            t.fail(t.valueWhere("look_at"), "look_at: expected a point other than eye, found the same point "
+                                            "(the view direction has zero length)");
+        // Without an explicit `up` the camera picks its own for a view along the default one (a map view).
+        const double sine = glm::length(glm::cross(glm::normalize(view), glm::normalize(camera.up)));
+        if (t.has("up") && sine < kParallelSine)
+            t.fail(t.valueWhere("up"),
+                   fmt::format("up: expected a direction not parallel to the view from eye to look_at, found "
+                               "[{}, {}, {}]",
+                               camera.up.x, camera.up.y, camera.up.z));
+    }
+    return camera;
+}
+
+// ---- Files ----
+
+// Refuses a path that names no file, or a folder, at the key's location.
+void checkInputFile(const TableReader& t, std::string_view key, const std::string& path) {
+    if (path.starts_with("/vsi")) return;  // GDAL virtual file systems: GDAL checks them
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    const SourceLocation where = t.keyWhere(key);
+    if (status.type() == std::filesystem::file_type::not_found)
+        t.fail(where, fmt::format("{}: {}: no such file", key, printable(path, std::string::npos)));
+    if (status.type() == std::filesystem::file_type::directory)
+        t.fail(where, fmt::format("{}: {}: is a directory, expected a file", key, printable(path, std::string::npos)));
+    if (ec)
+        t.fail(where, fmt::format("{}: {}: cannot be accessed ({})", key, printable(path, std::string::npos), ec.message()));
+}
+
+// ---- Materials ----
+
+constexpr std::array<Choice<FresnelModel>, 2> kFresnelModels{{
+    {"schlick", FresnelModel::Schlick},
+    {"exact", FresnelModel::Exact},
+}};
+
+constexpr std::array<Choice<TerrainColouring>, 3> kTerrainColourings{{
+    {"elevation", TerrainColouring::Elevation},
+    {"slope", TerrainColouring::Slope},
+    {"drape", TerrainColouring::Drape},
+}};
+
+const std::vector<KeyRule> kMaterialKeys{
+    {"name", {}},     {"color", {}}, {"kd", {}},         {"ks", {}},      {"exponent", {}},
+    {"mirror", {}},   {"gloss", {}}, {"ior", {}},        {"ior_rgb", {}}, {"absorption", {}},
+    {"fresnel", {}},  {"terrain", {}}, {"drape", {}},
+};
+
+void parseDielectric(const TableReader& t, MaterialDescription& m) {
+    if (const toml::node* n = t.node("ior"); n && n->is_array())
+        t.fail(t.whereOf(*n), "ior: expected a number > 0, found an array (ior_rgb takes one index per channel)");
+    if (const auto ior = t.singleNumber("ior", kPositive)) {
+        m.dielectric = true;
+        m.ior = glm::vec3(*ior);
+    }
+    if (const auto iorRgb = t.rgb("ior_rgb", kPositive, false)) {
+        if (m.dielectric) t.fail(t.keyWhere("ior_rgb"), "ior_rgb: give either ior or ior_rgb, not both");
+        m.dielectric = true;
+        m.ior = *iorRgb;
+        m.dispersive = !(m.ior.r == m.ior.g && m.ior.g == m.ior.b);
+    }
+    if (const auto a = t.rgb("absorption", kNonNegative, true)) m.absorptionPerM = *a;
+    if (const auto f = t.choice<FresnelModel>("fresnel", kFresnelModels)) m.fresnel = *f;
+    for (const std::string_view key : {"absorption", "fresnel"})
+        if (t.has(key) && !m.dielectric)
+            t.fail(t.keyWhere(key), fmt::format("key {} applies only to a dielectric material (one with ior or "
+                                                "ior_rgb)",
+                                                quoteKey(key)));
+}
+
+void parseTerrainColouring(const SceneContext& scene, const TableReader& t, MaterialDescription& m) {
+    const auto colouring = t.choice<TerrainColouring>("terrain", kTerrainColourings);
+    if (t.has("drape")) {
+        if (colouring && *colouring != TerrainColouring::Drape)
+            t.fail(t.keyWhere("drape"), fmt::format("drape: applies only with terrain = \"drape\", found terrain = {}",
+                                                    quoteString(choiceName<TerrainColouring>(kTerrainColourings,
+                                                                                             *colouring))));
+        m.terrain = TerrainColouring::Drape;
+        m.drapePath = scene.resolve(*t.path("drape"));
+        m.drapeWhere = t.keyWhere("drape");
+        checkInputFile(t, "drape", m.drapePath);
+    } else if (colouring == TerrainColouring::Drape) {
+        t.fail(t.valueWhere("terrain"), "terrain: \"drape\" needs a raster to drape (drape = \"file.tif\")");
+    } else if (colouring) {
+        m.terrain = *colouring;
+    }
+}
+
+MaterialDescription parseMaterial(const SceneContext& scene, const TableReader& t) {
+    checkKeys(t, kMaterialKeys, "", "");
+    MaterialDescription m;
+    m.where = t.where();
+    t.require("name", "in [[material]]");
+    m.name = *t.nonEmptyString("name");
+    if (const auto c = t.rgb("color", kNonNegative, false)) m.colour = *c;
+    if (const auto kd = t.singleNumber("kd", kNonNegative)) m.kd = *kd;
+    if (const auto ks = t.singleNumber("ks", kNonNegative)) m.ks = *ks;
+    if (const auto e = t.singleNumber("exponent", kPositive)) m.exponent = *e;
+    if (const auto mirror = t.rgb("mirror", Range{0.0, 1.0, true, true}, true)) m.mirror = *mirror;
+    if (const auto g = t.singleNumber("gloss", kNonNegative)) m.gloss = *g;
+    parseDielectric(t, m);
+    parseTerrainColouring(scene, t, m);
+    return m;
+}
+
+// ---- Objects ----
+
+constexpr std::array<Choice<ObjectKind>, 7> kObjectKinds{{
+    {"heightfield", ObjectKind::HeightField},
+    {"sphere", ObjectKind::Sphere},
+    {"plane", ObjectKind::Plane},
+    {"triangle", ObjectKind::Triangle},
+    {"polygon", ObjectKind::Polygon},
+    {"box", ObjectKind::Box},
+    {"water", ObjectKind::Water},
+}};
+
+const std::vector<KeyRule> kObjectKeys{
+    {"type", {}},
+    {"name", {}},
+    {"material", {}},
+    {"velocity", {}},
+    {"file", {"heightfield"}},
+    {"offset", {"heightfield"}},
+    {"exaggeration", {"heightfield"}},
+    {"method", {"heightfield"}},
+    {"cell_size", {"heightfield"}},
+    {"height_scale", {"heightfield"}},
+    {"center", {"sphere"}},
+    {"radius", {"sphere"}},
+    {"point", {"plane"}},
+    {"normal", {"plane"}},
+    {"vertices", {"triangle", "polygon"}},
+    {"min", {"box"}},
+    {"max", {"box"}},
+    {"level", {"water"}},
+};
+
+// The surface methods a height field accepts: the tracer's own list, so the two cannot drift apart.
+std::vector<Choice<std::string_view>> surfaceMethodChoices() {
+    std::vector<Choice<std::string_view>> choices;
+    std::string_view list = surfaceMethodList();  // static storage: the views stay valid
+    while (!list.empty()) {
+        const size_t comma = list.find(',');
+        std::string_view name = list.substr(0, comma);
+        list = comma == std::string_view::npos ? std::string_view() : list.substr(comma + 1);
+        while (name.starts_with(' ')) name.remove_prefix(1);
+        if (parseSurfaceMethod(name)) choices.push_back({name, name});
+    }
+    return choices;
+}
+
+void parseHeightField(const SceneContext& scene, const TableReader& t, const std::string& subject,
+                      ObjectDescription& o) {
+    t.require("file", subject);
+    o.filePath = scene.resolve(*t.path("file"));
+    o.fileWhere = t.keyWhere("file");
+    checkInputFile(t, "file", o.filePath);
+    if (const auto offset = t.vector3("offset")) o.offsetM = *offset;
+    if (const auto k = t.number("exaggeration", kPositive)) o.exaggeration = *k;
+    static const auto methods = surfaceMethodChoices();
+    if (const auto method = t.choice<std::string_view>("method", methods)) o.method = std::string(*method);
+    if (const auto cell = t.number("cell_size", kPositive)) o.cellSizeM = *cell;
+    if (const auto scale = t.number("height_scale", kPositive)) o.heightScale = *scale;
+}
+
+// Refuses a triangle or polygon without area, or a polygon whose vertices do not share a plane. The plane is
+// Newell's: its normal sums the edges' cross terms, which for a planar polygon, convex or not, is twice its
+// vector area (Tampieri, "Newell's Method for Computing the Plane Equation of a Polygon", Graphics Gems III,
+// 1992), and it passes through the vertices' centroid. Coordinates are taken relative to the first vertex and
+// scaled by the bounding box's largest side, so the tolerances are relative to the polygon's size.
+void checkPlanarPolygon(const TableReader& t, const std::vector<glm::dvec3>& vertices, bool triangle) {
+    const SourceLocation where = t.valueWhere("vertices");
+    const char* shape = triangle ? "triangle" : "polygon";
+    glm::dvec3 lo = vertices[0];
+    glm::dvec3 hi = vertices[0];
+    for (const auto& v : vertices) {
+        lo = glm::min(lo, v);
+        hi = glm::max(hi, v);
+    }
+    const double size = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+    if (!std::isfinite(size))
+        t.fail(where, fmt::format("vertices: expected a {} whose size fits a double, found one wider than {:.3g} m",
+                                  shape, std::numeric_limits<double>::max()));
+    std::vector<glm::dvec3> p;
+    for (const auto& v : vertices) p.push_back(size > 0.0 ? (v - vertices[0]) / size : glm::dvec3(0.0));
+    glm::dvec3 normal(0.0);
+    glm::dvec3 centroid(0.0);
+    for (size_t i = 0; i < p.size(); ++i) {
+        const glm::dvec3& a = p[i];
+        const glm::dvec3& b = p[(i + 1) % p.size()];
+        normal += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+        centroid += a / static_cast<double>(p.size());
+    }
+    if (!(glm::length(normal) > kDegenerateArea))
+        t.fail(where, fmt::format("vertices: expected a {} with an area, found a degenerate one (zero area: its "
+                                  "vertices coincide or lie on one line)",
+                                  shape));
+    const glm::dvec3 unit = glm::normalize(normal);
+    size_t worst = 0;
+    double worstDistance = 0.0;
+    for (size_t i = 0; i < p.size(); ++i) {
+        const double d = std::abs(glm::dot(p[i] - centroid, unit));
+        if (d > worstDistance) {
+            worstDistance = d;
+            worst = i;
+        }
+    }
+    if (worstDistance > kPlanarTolerance)
+        t.fail(where, fmt::format("vertices: expected a planar polygon, found vertices[{}] {:.6g} m from the "
+                                  "polygon's plane (tolerance {:.3g} m)",
+                                  worst, worstDistance * size, kPlanarTolerance * size));
+}
+
+void parseVertices(const TableReader& t, const std::string& subject, bool triangle, ObjectDescription& o) {
+    t.require("vertices", subject);
+    o.vertices = *t.points("vertices");
+    const size_t n = o.vertices.size();
+    if (triangle && n != 3)
+        t.fail(t.valueWhere("vertices"), fmt::format("vertices: expected exactly 3 points, found {}", n));
+    if (!triangle && n < 3)
+        t.fail(t.valueWhere("vertices"), fmt::format("vertices: expected at least 3 points, found {}", n));
+    checkPlanarPolygon(t, o.vertices, triangle);
+}
+
+void parseBox(const TableReader& t, ObjectDescription& o) {
+    if (const auto lo = t.vector3("min")) o.boxMin = *lo;
+    if (const auto hi = t.vector3("max")) o.boxMax = *hi;
+    static constexpr char kAxes[] = "xyz";
+    for (int axis = 0; axis < 3; ++axis)
+        if (!(o.boxMin[axis] < o.boxMax[axis]))
+            t.fail(t.has("max") ? t.valueWhere("max") : t.valueWhere("min"),
+                   fmt::format("max: expected a corner above min on every axis, found {} = {} for min and {} for "
+                               "max",
+                               kAxes[axis], o.boxMin[axis], o.boxMax[axis]));
+}
+
+// The material names and where each was defined.
+using MaterialIndex = std::map<std::string, SourceLocation>;
+
+ObjectDescription parseObject(const SceneContext& scene, const TableReader& t, size_t index,
+                              const MaterialIndex& materials) {
+    ObjectDescription o;
+    o.where = t.where();
+    const auto names = choiceNames<ObjectKind>(kObjectKinds);
+    if (!t.has("type")) refuseMisspeltKey(t, kObjectKeys, "type");
+    t.require("type", fmt::format("in [[object]] (one of {})", quoteAll(names)));
+    o.kind = *t.choice<ObjectKind>("type", kObjectKinds);
+    const std::string_view type = choiceName<ObjectKind>(kObjectKinds, o.kind);
+    const std::string subject = fmt::format("an object of type {}", quoteString(type));
+    checkKeys(t, kObjectKeys, type, subject);
+    const std::string required = "for " + subject;
+
+    o.name = t.nonEmptyString("name").value_or(fmt::format("{} {}", type, index + 1));
+    if (const auto material = t.nonEmptyString("material")) {
+        if (!materials.contains(*material)) {
+            std::vector<std::string> known;
+            for (const auto& [name, where] : materials) known.push_back(name);
+            t.fail(t.valueWhere("material"),
+                   fmt::format("material: no [[material]] is named {}{}", quoteString(*material),
+                               known.empty() ? std::string(" (the scene defines no [[material]])")
+                                             : didYouMean(*material, known, false)));
+        }
+        o.material = *material;
+        o.materialWhere = t.keyWhere("material");
+    }
+    if (const auto v = t.vector3("velocity")) o.velocity = *v;
+
+    switch (o.kind) {
+        case ObjectKind::HeightField: parseHeightField(scene, t, required, o); break;
+        case ObjectKind::Sphere:
+            t.require("center", required);
+            t.require("radius", required);
+            o.centre = *t.vector3("center");
+            o.radiusM = *t.number("radius", kPositive);
+            break;
+        case ObjectKind::Plane:
+            if (const auto p = t.vector3("point")) o.point = *p;
+            if (const auto n = t.direction("normal")) o.normal = *n;
+            break;
+        case ObjectKind::Triangle: parseVertices(t, required, true, o); break;
+        case ObjectKind::Polygon: parseVertices(t, required, false, o); break;
+        case ObjectKind::Box: parseBox(t, o); break;
+        case ObjectKind::Water:
+            if (const auto level = t.number("level")) o.levelM = *level;
+            break;
+    }
+    return o;
+}
+
+// ---- Lights ----
+
+constexpr std::array<Choice<LightKind>, 3> kLightKinds{{
+    {"sun", LightKind::Sun},
+    {"point", LightKind::Point},
+    {"sphere", LightKind::Sphere},
+}};
+
+const std::vector<KeyRule> kLightKeys{
+    {"type", {}},
+    {"color", {}},
+    {"intensity", {}},
+    {"azimuth", {"sun"}},
+    {"elevation", {"sun"}},
+    {"time", {"sun"}},
+    {"angular_radius", {"sun"}},
+    {"position", {"point", "sphere"}},
+    {"radius", {"sphere"}},
+};
+
+// Days from 1970-01-01 to a date of the proleptic Gregorian calendar, and back (Hinnant, "chrono-Compatible
+// Low-Level Date Algorithms", 2013).
+int64_t daysFromCivil(int64_t y, int64_t m, int64_t d) {
+    y -= m <= 2 ? 1 : 0;
+    const int64_t era = (y >= 0 ? y : y - 399) / 400;
+    const int64_t yoe = y - era * 400;
+    const int64_t doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
+    const int64_t doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+    return era * 146097 + doe - 719468;
+}
+
+struct CivilDate {
+    int64_t year;
+    int64_t month;
+    int64_t day;
+};
+
+CivilDate civilFromDays(int64_t z) {
+    z += 719468;
+    const int64_t era = (z >= 0 ? z : z - 146096) / 146097;
+    const int64_t doe = z - era * 146097;
+    const int64_t yoe = (doe - doe / 1460 + doe / 36524 - doe / 146096) / 365;
+    const int64_t doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    const int64_t mp = (5 * doy + 2) / 153;
+    const int64_t d = doy - (153 * mp + 2) / 5 + 1;
+    const int64_t m = mp < 10 ? mp + 3 : mp - 9;
+    return {era * 400 + yoe + (m <= 2 ? 1 : 0), m, d};
+}
+
+int64_t daysInMonth(int64_t year, int64_t month) {
+    static constexpr int kDays[] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+    const bool leap = (year % 4 == 0 && year % 100 != 0) || year % 400 == 0;
+    return month == 2 && leap ? 29 : kDays[month - 1];
+}
+
+// A date and time of day with its offset from UTC, as written.
+struct ZonedTime {
+    int64_t year = 0, month = 0, day = 0, hour = 0, minute = 0, second = 0;
+    int64_t offsetMinutes = 0;
+};
+
+// Reads an ISO 8601 time with a zone: YYYY-MM-DDTHH:MM[:SS[.fff]] then Z or +HH:MM, +HHMM, +HH (or -).
+// Returns the reason when `text` is not one.
+std::optional<std::string> readIsoTime(std::string_view text, ZonedTime& out) {
+    size_t pos = 0;
+    const auto digits = [&](size_t count, int64_t& value) {
+        if (pos + count > text.size()) return false;
+        value = 0;
+        for (size_t i = 0; i < count; ++i) {
+            const char c = text[pos + i];
+            if (c < '0' || c > '9') return false;
+            value = value * 10 + (c - '0');
+        }
+        pos += count;
+        return true;
+    };
+    const auto literal = [&](char c) {
+        if (pos >= text.size() || text[pos] != c) return false;
+        ++pos;
+        return true;
+    };
+    if (!digits(4, out.year) || !literal('-') || !digits(2, out.month) || !literal('-') || !digits(2, out.day))
+        return "the date must be YYYY-MM-DD";
+    if (!(literal('T') || literal('t') || literal(' '))) return "a time of day must follow the date after 'T'";
+    if (!digits(2, out.hour) || !literal(':') || !digits(2, out.minute)) return "the time of day must be HH:MM";
+    if (literal(':')) {
+        if (!digits(2, out.second)) return "seconds must be two digits";
+        if (literal('.')) {
+            int64_t ignored = 0;
+            if (!digits(1, ignored)) return "a decimal point must be followed by digits";
+            while (digits(1, ignored)) {
+            }
+        }
+    }
+    if (literal('Z') || literal('z')) {
+        out.offsetMinutes = 0;
+    } else if (pos < text.size() && (text[pos] == '+' || text[pos] == '-')) {
+        const int64_t sign = text[pos++] == '-' ? -1 : 1;
+        int64_t hours = 0;
+        int64_t minutes = 0;
+        if (!digits(2, hours)) return "the offset from UTC must be +HH:MM";
+        if (literal(':') ? !digits(2, minutes) : (pos < text.size() && !digits(2, minutes)))
+            return "the offset from UTC must be +HH:MM";
+        if (hours > 23 || minutes > 59) return "the offset from UTC must be at most 23:59";
+        out.offsetMinutes = sign * (hours * 60 + minutes);
+    } else {
+        return "the time needs a zone: Z for UTC or an offset such as +02:00";
+    }
+    if (pos != text.size()) return "unexpected text after the time";
+    if (out.month < 1 || out.month > 12) return fmt::format("month {} is not in 01..12", out.month);
+    if (out.day < 1 || out.day > daysInMonth(out.year, out.month))
+        return fmt::format("day {} is not in month {:02}", out.day, out.month);
+    if (out.hour > 23) return fmt::format("hour {} is not in 00..23", out.hour);
+    if (out.minute > 59) return fmt::format("minute {} is not in 00..59", out.minute);
+    if (out.second > 59) return fmt::format("second {} is not in 00..59", out.second);
+    return std::nullopt;
+}
+
+// The same instant in UTC as "YYYY-MM-DDTHH:MM:SSZ" (fractions of a second dropped), or nothing when an
+// offset moves it out of the years 0001..9999.
+std::optional<std::string> canonicalUtc(const ZonedTime& t) {
+    const int64_t seconds = daysFromCivil(t.year, t.month, t.day) * 86400 + t.hour * 3600 + t.minute * 60 +
+                            t.second - t.offsetMinutes * 60;
+    const int64_t days = seconds >= 0 ? seconds / 86400 : -((-seconds + 86399) / 86400);
+    const int64_t inDay = seconds - days * 86400;
+    const CivilDate date = civilFromDays(days);
+    if (date.year < 1 || date.year > 9999) return std::nullopt;
+    return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}Z", date.year, date.month, date.day, inDay / 3600,
+                       inDay / 60 % 60, inDay % 60);
+}
+
+// The sun's `time`, as a string or a TOML offset date-time, normalised to UTC.
+std::string parseSunTime(const TableReader& t) {
+    const toml::node& n = *t.node("time");
+    ZonedTime zoned;
+    if (const auto* native = n.as_date_time()) {
+        const toml::date_time& dt = native->get();
+        if (!dt.offset)
+            t.fail(t.whereOf(n), "time: expected a time with a zone, such as 2026-06-21T19:30:00Z, found a local "
+                                 "date-time");
+        zoned = {dt.date.year, dt.date.month, dt.date.day, dt.time.hour, dt.time.minute, dt.time.second,
+                 dt.offset->minutes};
+        zoned.second = std::min<int64_t>(zoned.second, 59);  // a leap second counts as the second before it
+    } else {
+        const auto* s = n.as_string();
+        if (!s)
+            t.fail(t.whereOf(n), fmt::format("time: expected an ISO 8601 time such as \"2026-06-21T19:30Z\", found {}",
+                                             describeType(n)));
+        if (const auto why = readIsoTime(s->get(), zoned))
+            t.fail(t.whereOf(n), fmt::format("time: expected an ISO 8601 time such as \"2026-06-21T19:30Z\", found "
+                                             "{} ({})",
+                                             quoteString(s->get()), *why));
+    }
+    const auto utc = canonicalUtc(zoned);
+    if (!utc) t.fail(t.whereOf(n), "time: expected a time whose UTC date falls in the years 0001..9999");
+    return *utc;
+}
+
+LightDescription parseLight(const TableReader& t) {
+    LightDescription light;
+    light.where = t.where();
+    light.kind = t.choice<LightKind>("type", kLightKinds).value_or(LightKind::Sun);
+    const std::string_view type = choiceName<LightKind>(kLightKinds, light.kind);
+    const std::string subject = fmt::format("a light of type {}", quoteString(type));
+    checkKeys(t, kLightKeys, type, subject);
+
+    if (const auto c = t.rgb("color", kNonNegative, false)) light.colour = *c;
+    if (const auto i = t.singleNumber("intensity", kNonNegative)) light.intensity = *i;
+    switch (light.kind) {
+        case LightKind::Sun:
+            if (const auto az = t.number("azimuth")) light.azimuthDeg = *az;
+            if (const auto el = t.number("elevation", Range{-90.0, 90.0, true, true})) light.elevationDeg = *el;
+            if (const auto r = t.number("angular_radius", Range{0.0, 90.0, true, false})) light.angularRadiusDeg = *r;
+            if (t.has("time")) {
+                light.time = parseSunTime(t);
+                for (const std::string_view key : {"azimuth", "elevation"})
+                    if (t.has(key))
+                        t.fail(t.keyWhere(key), fmt::format("key {} conflicts with 'time', which sets the sun's "
+                                                            "position; give one or the other",
+                                                            quoteKey(key)));
+            }
+            break;
+        case LightKind::Point:
+            t.require("position", "for " + subject);
+            light.position = *t.vector3("position");
+            break;
+        case LightKind::Sphere:
+            t.require("position", "for " + subject);
+            t.require("radius", "for " + subject);
+            light.position = *t.vector3("position");
+            light.radiusM = *t.number("radius", kPositive);
+            break;
+    }
+    return light;
+}
+
+// ---- Sky and render settings ----
+
+constexpr std::array<Choice<SkyKind>, 4> kSkyKinds{{
+    {"physical", SkyKind::Physical},
+    {"gradient", SkyKind::Gradient},
+    {"flat", SkyKind::Flat},
+    {"none", SkyKind::None},
+}};
+
+const std::vector<KeyRule> kSkyKeys{
+    {"model", {}},
+    {"color", {"flat"}},
+    {"haze", {"physical"}},
+    {"aerial_perspective", {"physical"}},
+    {"ambient", {"physical", "gradient", "flat"}},
+};
+
+SkyDescription parseSky(const TableReader& t) {
+    SkyDescription sky;
+    sky.where = t.where();
+    sky.kind = t.choice<SkyKind>("model", kSkyKinds).value_or(SkyKind::Physical);
+    const std::string_view model = choiceName<SkyKind>(kSkyKinds, sky.kind);
+    checkKeys(t, kSkyKeys, model, fmt::format("a sky of model {}", quoteString(model)));
+    if (const auto c = t.rgb("color", kNonNegative, false)) sky.colour = *c;
+    if (const auto h = t.number("haze", kNonNegative)) sky.haze = *h;
+    if (const auto a = t.boolean("aerial_perspective")) sky.aerialPerspective = *a;
+    if (const auto a = t.singleNumber("ambient", kNonNegative)) sky.ambient = *a;
+    return sky;
+}
+
+constexpr std::array<Choice<std::string_view>, 5> kSamplers{{
+    {"regular", "regular"},
+    {"random", "random"},
+    {"stratified", "stratified"},
+    {"poisson", "poisson"},
+    {"best-candidate", "best-candidate"},
+}};
+
+constexpr std::array<Choice<std::string_view>, 3> kFilters{{
+    {"box", "box"},
+    {"tent", "tent"},
+    {"gaussian", "gaussian"},
+}};
+
+const std::vector<KeyRule> kRenderKeys{
+    {"width", {}},     {"height", {}}, {"samples", {}}, {"sampler", {}}, {"filter", {}},   {"max_depth", {}},
+    {"min_weight", {}}, {"seed", {}},  {"threads", {}}, {"output", {}},  {"exposure", {}},
+};
+
+constexpr int64_t kMaxImageSide = 16384;
+constexpr int64_t kMaxSamples = 65536;
+constexpr int64_t kMaxDepth = 64;
+constexpr int64_t kMaxThreads = 4096;
+
+RenderDescription parseRender(const SceneContext& scene, const TableReader& t) {
+    checkKeys(t, kRenderKeys, "", "");
+    RenderDescription r;
+    r.where = t.where();
+    if (const auto w = t.integer("width", 1, kMaxImageSide)) r.width = static_cast<int>(*w);
+    if (const auto h = t.integer("height", 1, kMaxImageSide)) r.height = static_cast<int>(*h);
+    if (const auto s = t.integer("samples", 1, kMaxSamples)) r.samples = static_cast<int>(*s);
+    if (const auto s = t.choice<std::string_view>("sampler", kSamplers)) r.sampler = std::string(*s);
+    if (const auto f = t.choice<std::string_view>("filter", kFilters)) r.filter = std::string(*f);
+    if (const auto d = t.integer("max_depth", 0, kMaxDepth)) r.maxDepth = static_cast<int>(*d);
+    if (const auto w = t.number("min_weight", Range{0.0, 1.0, true, false})) r.minWeight = *w;
+    if (const auto s = t.integer("seed", 0, std::numeric_limits<int64_t>::max())) r.seed = static_cast<uint64_t>(*s);
+    if (const auto n = t.integer("threads", 0, kMaxThreads)) r.threads = static_cast<int>(*n);
+    if (const auto o = t.path("output")) r.output = scene.resolve(*o);
+    if (const auto e = t.singleNumber("exposure", kPositive)) r.exposure = *e;
+    return r;
+}
+
+// ---- The whole file ----
+
+enum class SectionForm { Table, ArrayOfTables };
+
+struct Section {
+    std::string_view name;
+    SectionForm form;
+};
+
+constexpr std::array<Section, 6> kSections{{
+    {"camera", SectionForm::Table},
+    {"material", SectionForm::ArrayOfTables},
+    {"object", SectionForm::ArrayOfTables},
+    {"light", SectionForm::ArrayOfTables},
+    {"sky", SectionForm::Table},
+    {"render", SectionForm::Table},
+}};
+
+std::string sectionHeader(std::string_view name, SectionForm form) {
+    return form == SectionForm::Table ? fmt::format("[{}]", name) : fmt::format("[[{}]]", name);
+}
+
+// Refuses top-level keys that are not one of the sections, or a section written in the wrong form.
+void checkSections(const SceneContext& scene, const toml::table& root) {
+    const TableReader top(scene, root, "the top level", SourceLocation{1, 1});
+    std::vector<std::string> names;
+    std::string headers;
+    for (const auto& s : kSections) {
+        names.emplace_back(s.name);
+        headers += (headers.empty() ? "" : ", ") + sectionHeader(s.name, s.form);
+    }
+    for (const auto& [key, where] : top.keysInOrder()) {
+        const toml::node& n = *root.get(key);
+        const auto section = std::find_if(kSections.begin(), kSections.end(),
+                                          [&](const Section& s) { return s.name == key; });
+        if (section == kSections.end()) {
+            const auto best = nearMiss(key, names);
+            std::string hint;
+            if (best) {
+                const auto match = std::find_if(kSections.begin(), kSections.end(),
+                                                [&](const Section& s) { return s.name == *best; });
+                hint = fmt::format(" (did you mean {}?)", sectionHeader(match->name, match->form));
+            }
+            if (n.is_table() || n.is_array_of_tables())
+                scene.fail(where, fmt::format("unknown table {}{}",
+                                              sectionHeader(printable(key), n.is_table() ? SectionForm::Table
+                                                                                          : SectionForm::ArrayOfTables),
+                                              hint));
+            scene.fail(where, fmt::format("unknown top-level key {}{}; a scene holds only the tables {}", quoteKey(key),
+                                          hint, headers));
+        }
+        const std::string header = sectionHeader(section->name, section->form);
+        if (section->form == SectionForm::Table && !n.is_table())
+            scene.fail(where, fmt::format("{}: expected one table {}, found {}", key, header, describeType(n)));
+        if (section->form == SectionForm::ArrayOfTables) {
+            const auto* array = n.as_array();
+            if (!array)
+                scene.fail(where, fmt::format("{}: expected {} tables (an array of tables), found {}", key, header,
+                                              describeType(n)));
+            for (size_t i = 0; i < array->size(); ++i)
+                if (!array->get(i)->is_table())
+                    scene.fail(top.whereOf(*array->get(i)),
+                               fmt::format("{}[{}]: expected a table, found {}", key, i, describeType(*array->get(i))));
+        }
+    }
+}
+
+// Calls `parse(reader, index)` for each table of an array-of-tables section.
+template <typename Parse>
+void forEachTable(const SceneContext& scene, const toml::table& root, std::string_view name, Parse&& parse) {
+    const auto* array = root.get_as<toml::array>(name);
+    if (!array) return;
+    const SourceLocation fallback = locationOf(array->source(), SourceLocation{1, 1});
+    for (size_t i = 0; i < array->size(); ++i)
+        parse(TableReader(scene, *array->get(i)->as_table(), sectionHeader(name, SectionForm::ArrayOfTables),
+                          fallback),
+              i);
+}
+
+}  // namespace
+
+SceneDescription parseSceneText(std::string_view text, const std::string& pathForMessages, const std::string& baseDir) {
+    const SceneContext scene(pathForMessages, baseDir);
+    toml::table root;
+    try {
+        root = toml::parse(text, std::string_view(pathForMessages));
+    } catch (const toml::parse_error& e) {
+        scene.fail(locationOf(e.source(), SourceLocation{1, 1}),
+                   "invalid TOML: " + printable(e.description(), std::string::npos));
+    }
+    checkSections(scene, root);
+
+    SceneDescription description;
+    description.path = pathForMessages;
+    if (const auto* camera = root.get_as<toml::table>("camera"))
+        description.camera = parseCamera(TableReader(scene, *camera, "[camera]", SourceLocation{1, 1}));
+
+    MaterialIndex materials;
+    forEachTable(scene, root, "material", [&](const TableReader& t, size_t) {
+        MaterialDescription m = parseMaterial(scene, t);
+        const auto [first, inserted] = materials.emplace(m.name, t.valueWhere("name"));
+        if (!inserted)
+            t.fail(t.valueWhere("name"), fmt::format("name: material {} is already defined at line {}",
+                                                     quoteString(m.name), first->second.line));
+        description.materials.push_back(std::move(m));
+    });
+    forEachTable(scene, root, "object", [&](const TableReader& t, size_t i) {
+        description.objects.push_back(parseObject(scene, t, i, materials));
+    });
+    forEachTable(scene, root, "light",
+                 [&](const TableReader& t, size_t) { description.lights.push_back(parseLight(t)); });
+    if (const auto* sky = root.get_as<toml::table>("sky"))
+        description.sky = parseSky(TableReader(scene, *sky, "[sky]", SourceLocation{1, 1}));
+    if (const auto* render = root.get_as<toml::table>("render"))
+        description.render = parseRender(scene, TableReader(scene, *render, "[render]", SourceLocation{1, 1}));
+
+    const auto& objects = description.objects;
+    const bool hasTerrain = std::any_of(objects.begin(), objects.end(),
+                                        [](const ObjectDescription& o) { return o.kind == ObjectKind::HeightField; });
+    for (const auto& o : objects)
+        if (o.kind == ObjectKind::Water && !hasTerrain)
+            scene.fail(o.where, "a water object needs a heightfield object in the scene (it is clipped to the "
+                                "terrain's footprint)");
+    return description;
+}
+
+SceneDescription loadSceneFile(const std::string& path) {
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    if (status.type() == std::filesystem::file_type::not_found) throw InputError(path + ": no such file");
+    if (status.type() == std::filesystem::file_type::directory) throw InputError(path + ": is a directory");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(fmt::format("{}: cannot be read ({})", path, std::strerror(errno)));
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) throw InputError(fmt::format("{}: read failed ({})", path, std::strerror(errno)));
+    return parseSceneText(text.str(), path, std::filesystem::path(path).parent_path().string());
+}
+
+}  // namespace terracast

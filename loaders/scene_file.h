@@ -1,0 +1,22 @@
+// Scene files: TOML text (docs/scene-format.md is the reference) parsed into the plain SceneDescription.
+// Every key is checked: unknown keys, keys of another object type, wrong types, out-of-range values, missing
+// files and unknown material names are InputErrors of one line, "scene.toml:LINE:COL: message".
+#pragma once
+
+#include "tracer/scene_description.h"
+
+#include <string>
+#include <string_view>
+
+namespace terracast {
+
+// Reads and parses the scene file at `path`; relative paths inside it resolve against its folder. Throws
+// InputError for a missing, unreadable or invalid file.
+SceneDescription loadSceneFile(const std::string& path);
+
+// Parses scene text. `pathForMessages` starts every error message; `baseDir` is the folder relative paths in
+// the scene resolve against (empty: the working directory). Throws InputError for any invalid input and
+// nothing else, whatever the bytes: this is also the entry point for fuzzing.
+SceneDescription parseSceneText(std::string_view text, const std::string& pathForMessages, const std::string& baseDir);
+
+}  // namespace terracast
