@@ -5,10 +5,13 @@
 #include "loaders/image_io.h"
 #include "loaders/crs.h"
 #include "loaders/raster_writer.h"
+#include "loaders/scene_assets.h"
+#include "loaders/scene_file.h"
 #include "tracer/accuracy.h"
 #include "tracer/cancel.h"
 #include "tracer/compare.h"
 #include "tracer/maps.h"
+#include "tracer/scene_renderer.h"
 #include "tracer/terrain_renderer.h"
 
 #include <fmt/core.h>
@@ -633,6 +636,101 @@ int runViewshed(const ViewshedOptions& o) {
         const MapRaster vis = viewshed(dem.grid, s);
         writeVertexRaster(o.output, dem, vis, RasterType::Byte, 255.0);
         printRasterSummary("viewshed", o.output, vis, start);
+        return 0;
+    });
+}
+
+namespace {
+
+std::string vecText(const glm::dvec3& v) { return fmt::format("({:.3f}, {:.3f}, {:.3f})", v.x, v.y, v.z); }
+
+// One pixel's ray tree, one ray per line, indented by depth.
+void printRayTree(int x, int y, const std::vector<RayRecord>& tree) {
+    fmt::print("ray tree of pixel {},{} ({} rays)\n", x, y, tree.size());
+    for (const RayRecord& r : tree) {
+        fmt::print("{:{}}{} from {} dir {} -> {}", "", 2 * r.depth, rayKindName(r.kind), vecText(r.origin),
+                   vecText(r.dir), r.hit);
+        if (std::isfinite(r.t) && r.kind != RayKind::Shadow) fmt::print(" at {:.4g} m", r.t);
+        fmt::print("  weight ({:.3g}, {:.3g}, {:.3g}) contribution ({:.4g}, {:.4g}, {:.4g})\n", r.weight.r, r.weight.g,
+                   r.weight.b, r.contribution.r, r.contribution.g, r.contribution.b);
+    }
+}
+
+}  // namespace
+
+int runScene(const SceneCommandOptions& o) {
+    return guarded([&] {
+        SceneDescription d = loadSceneFile(o.path);
+        RenderDescription& r = d.render;
+        if (!o.output.empty()) r.output = o.output;
+        if (o.width > 0) r.width = o.width;
+        if (o.height > 0) r.height = o.height;
+        if (o.samples > 0) r.samples = o.samples;
+        if (o.threads >= 0) r.threads = o.threads;
+        if (o.seed >= 0) r.seed = uint64_t(o.seed);
+        if (!o.method.empty()) {
+            if (!parseSurfaceMethod(o.method))
+                throw InputError(fmt::format("--method: expected one of {}, found '{}'", surfaceMethodList(), o.method));
+            for (auto& obj : d.objects) obj.method = o.method;
+        }
+        if (r.output.empty() && !o.debugPixel)
+            throw InputError(o.path + ": no output image: give -o OUT or set output in [render]");
+        if (o.debugPixel && (o.debugX < 0 || o.debugY < 0 || o.debugX >= r.width || o.debugY >= r.height))
+            throw InputError(fmt::format("--debug-pixel: expected a pixel inside {}x{}, found {},{}", r.width, r.height,
+                                         o.debugX, o.debugY));
+        if (!r.output.empty()) {
+            checkOutputPath(r.output, o.path);
+            for (const auto& obj : d.objects)
+                if (obj.kind == ObjectKind::HeightField) checkNotInput(r.output, obj.filePath, "output path");
+        }
+
+        const double limit = o.maxMemoryBytes > 0.0 ? o.maxMemoryBytes : defaultMemoryLimitBytes();
+        const LoadedSceneAssets loaded = loadSceneAssets(d, limit);
+        for (const auto& w : loaded.warnings) fmt::print(stderr, "terracast: warning: {}\n", w);
+        double embreeBytes = 0.0;
+        for (size_t k = 0, g = 0; k < d.objects.size(); ++k)
+            if (d.objects[k].kind == ObjectKind::HeightField)
+                embreeBytes += embreeBytesEstimate(*parseSurfaceMethod(d.objects[k].method), *loaded.assets.grids[g++]);
+        const double need = loaded.bytes + embreeBytes + double(r.width) * r.height * 12.0;
+        if (need > limit)
+            throw InputError(fmt::format("{}: rendering {}x{} needs about {}, more than the {} limit (--max-memory)",
+                                         o.path, r.width, r.height, humanBytes(need), humanBytes(limit)));
+
+        const Scene scene(d, loaded.assets);
+        const double aspect = double(r.width) / double(r.height);
+        const SceneCamera camera = makeSceneCamera(scene, d.camera, aspect);
+        SceneRenderSettings s;
+        s.width = r.width;
+        s.height = r.height;
+        s.samples = r.samples;
+        s.maxDepth = r.maxDepth;
+        s.minWeight = r.minWeight;
+        s.seed = r.seed;
+        s.threads = r.threads;
+        s.exposure = r.exposure;
+
+        if (o.debugPixel) {
+            std::vector<RayRecord> tree;
+            const glm::vec3 v = tracePixel(scene, camera, s, o.debugX, o.debugY, &tree);
+            printRayTree(o.debugX, o.debugY, tree);
+            fmt::print("pixel value ({:.4g}, {:.4g}, {:.4g})\n", v.r, v.g, v.b);
+            if (r.output.empty()) return 0;
+        }
+
+        TerminalProgress progress(!o.quiet);
+        s.progress = [&](double f, int64_t rays) { progress.update(f, rays); };
+        SceneRayStats stats;
+        Film film = renderScene(scene, camera, s, &stats);
+        progress.finish();
+        writeImage(r.output, RgbImage{film.width, film.height, std::move(film.rgb)});
+        if (!o.quiet)
+            fmt::print(stderr,
+                       "terracast: rendered {} ({}x{}, {} spp) in {:.2f} s: {} primary, {} shadow, {} reflection, {} "
+                       "refraction rays ({} reached the sky), {:.2f} Mrays/s, peak memory {}\n",
+                       r.output, r.width, r.height, s.samples, stats.seconds, stats.primary, stats.shadow,
+                       stats.reflection, stats.refraction, stats.skyRays,
+                       stats.seconds > 0 ? double(stats.total()) / stats.seconds * 1e-6 : 0.0,
+                       humanBytes(peakResidentBytes()));
         return 0;
     });
 }

@@ -114,6 +114,22 @@ struct CompareCommandOptions {
 int runCompare(const CompareCommandOptions& options);
 
 // Parses "WxH" into positive width and height; returns false on malformed input.
+// `terracast scene SCENE.toml [-o OUT]`: the Whitted scene renderer. Options given here override the file's.
+struct SceneCommandOptions {
+    std::string path;                          // the scene file
+    std::string output;                        // overrides render.output
+    int width = 0, height = 0;                 // override render.width/height when > 0
+    int samples = 0;                           // overrides render.samples when > 0
+    int threads = -1;                          // overrides render.threads when >= 0
+    int64_t seed = -1;                         // overrides render.seed when >= 0
+    std::string method;                        // overrides every height field's method when set
+    bool debugPixel = false;                   // print one pixel's ray tree on stdout
+    int debugX = 0, debugY = 0;
+    double maxMemoryBytes = 0.0;               // 0 = 80% of physical memory
+    bool quiet = false;
+};
+int runScene(const SceneCommandOptions& options);
+
 bool parseSize(const std::string& text, int& width, int& height);
 // Parses "A,B" into two finite numbers; returns false on malformed input.
 bool parsePair(const std::string& text, double& a, double& b);

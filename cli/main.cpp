@@ -8,6 +8,7 @@
 #include <csignal>
 #include <fmt/core.h>
 
+#include <cmath>
 #include <string>
 
 using namespace terracast;
@@ -75,6 +76,26 @@ int main(int argc, char** argv) {
     InfoOptions info;
     auto* infoCmd = app.add_subcommand("info", "Describe a DEM: size, CRS, cell size, heights, nodata, memory");
     addDemOptions(*infoCmd, info.dem);
+
+    SceneCommandOptions scene;
+    std::string debugPixel, sceneSize;
+    auto* sceneCmd = app.add_subcommand("scene", "Render a TOML scene: terrain, spheres, boxes, polygons, water, mirrors, glass");
+    sceneCmd->add_option("SCENE", scene.path, "Scene file (TOML); see docs/scene-format.md")->required();
+    sceneCmd->add_option("-o,--output", scene.output, "Output image .png or .exr (overrides render.output)");
+    sceneCmd->add_option("--size", sceneSize, "Image size WxH (overrides render.width and render.height)");
+    sceneCmd->add_option("--spp", scene.samples, "Samples per pixel (overrides render.samples)")->check(CLI::Range(1, 65536));
+    sceneCmd->add_option("--threads", scene.threads, "Worker threads, 0 = all cores")->check(CLI::NonNegativeNumber);
+    sceneCmd->add_option("--seed", scene.seed, "Random seed (overrides render.seed)")->check(CLI::NonNegativeNumber);
+    sceneCmd->add_option("--method", scene.method, "Height-field method for every terrain (overrides the file)");
+    sceneCmd->add_option("--debug-pixel", debugPixel, "Print the ray tree of pixel X,Y");
+    sceneCmd->add_option_function<std::string>(
+        "--max-memory",
+        [&scene](const std::string& text) {
+            if (!parseByteCount(text, scene.maxMemoryBytes))
+                throw CLI::ValidationError("--max-memory", "expected a size such as 512M or 8G, found '" + text + "'");
+        },
+        "Refuse scenes estimated to need more memory than this (default: 80% of physical memory)");
+    sceneCmd->add_flag("-q,--quiet", scene.quiet, "No progress or summary on stderr");
 
     RenderOptions render;
     std::string size = "1280x720", sun = "315,35", method = "bilinear";
@@ -196,6 +217,23 @@ int main(int argc, char** argv) {
         }
         if (!parseMethodOption(viewshedMethod, viewshedOpts.method)) return 2;
         return runViewshed(viewshedOpts);
+    }
+    if (*sceneCmd) {
+        if (!debugPixel.empty()) {
+            double dx = 0, dy = 0;
+            if (!parsePair(debugPixel, dx, dy) || dx != std::floor(dx) || dy != std::floor(dy)) {
+                fmt::print(stderr, "terracast: error: --debug-pixel: expected X,Y pixel indices, found '{}'\n", debugPixel);
+                return 2;
+            }
+            scene.debugPixel = true;
+            scene.debugX = int(dx);
+            scene.debugY = int(dy);
+        }
+        if (!sceneSize.empty() && !parseSize(sceneSize, scene.width, scene.height)) {
+            fmt::print(stderr, "terracast: error: --size: expected WxH with positive integers, found '{}'\n", sceneSize);
+            return 2;
+        }
+        return runScene(scene);
     }
     if (*accuracyCmd) return runAccuracy(accuracy);
     if (*compareCmd) {
