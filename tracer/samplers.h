@@ -103,11 +103,12 @@ std::vector<glm::dvec3> bestCandidateDirections(int n, double cosThetaMax, uint6
 uint32_t permuteIndex(uint32_t i, uint32_t n, uint64_t key);
 
 // Sample k of N for any pixel, for any number of independent 2D (or 1D) sample dimensions.
-//  - Dimension 0 is meant for the position in the pixel, 1 for the lens, 2 for a light, and so on. Each
-//    dimension visits the pattern's N points in its own per-pixel random order (permuteIndex), so the
-//    stratum of the lens sample does not follow the stratum of the film sample.
-//  - Regular and stratified points are computed directly from k. Random points hash (seed, pixel, k,
-//    dimension).
+//  - Dimension 0 is meant for the position in the pixel, 1 for the lens, 2 for a light, and so on. Sample k
+//    takes point k of the pattern in dimension 0; every other dimension visits the N points in its own
+//    per-pixel random order (permuteIndex), so the stratum of the lens sample does not follow the stratum of
+//    the film sample.
+//  - Regular and stratified points are computed directly from k (regular points are the same in every
+//    pixel, which is what makes them alias). Random points hash (seed, pixel, k, dimension).
 //  - Poisson and best-candidate sets are computed once, in the toroidal square, and every pixel and
 //    dimension sees them moved by its own random toroidal shift (Cranley and Patterson 1976, "Randomization
 //    of number theoretic methods for multiple integration"), which keeps their spacing, decorrelates pixels
@@ -122,7 +123,7 @@ public:
     int samplesPerPixel() const { return count_; }
     uint64_t seed() const { return seed_; }
 
-    // Sample k of pixel (px, py) in 2D dimension `dimension`, in [0, 1)^2. k runs from 0 to
+    // Sample k >= 0 of pixel (px, py) in 2D dimension `dimension`, in [0, 1)^2. k runs from 0 to
     // samplesPerPixel() - 1 for one full pattern; an adaptive renderer may go on: sample k >= N belongs to
     // round k / N, a new copy of the pattern with its own random shift and order.
     glm::dvec2 sample(int64_t px, int64_t py, int k, uint32_t dimension = 0) const;
