@@ -1,0 +1,79 @@
+#include "tracer/warps.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace terracast {
+
+namespace {
+// A direction with the given cos(theta) around +z and azimuth 2 pi v. sin(theta) comes from
+// (1 - c)(1 + c) rather than 1 - c^2, which keeps its precision for the tiny cones of the sun's disc.
+glm::dvec3 directionAround(double cosTheta, double oneMinusCos, double v) {
+    const double sinTheta = std::sqrt(std::max(0.0, oneMinusCos * (1.0 + cosTheta)));
+    const double phi = 2.0 * kSamplingPi * v;
+    return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
+}
+}  // namespace
+
+Frame Frame::around(const glm::dvec3& n) {
+    const double sign = std::copysign(1.0, n.z);
+    const double a = -1.0 / (sign + n.z);
+    const double b = n.x * n.y * a;
+    Frame f;
+    f.s = {1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x};
+    f.t = {b, sign + n.y * n.y * a, -n.y};
+    f.n = n;
+    return f;
+}
+
+glm::dvec2 squareToConcentricDisk(glm::dvec2 u) {
+    const glm::dvec2 a = 2.0 * u - 1.0;
+    if (a.x == 0.0 && a.y == 0.0) return {0.0, 0.0};
+    // The square's concentric squares |a|_inf = r become circles of radius r; along each one the angle
+    // grows linearly with arc length, over an eighth of the circle per half side.
+    double r, phi;
+    if (std::abs(a.x) > std::abs(a.y)) {
+        r = a.x;
+        phi = (kSamplingPi / 4.0) * (a.y / a.x);
+    } else {
+        r = a.y;
+        phi = kSamplingPi / 2.0 - (kSamplingPi / 4.0) * (a.x / a.y);
+    }
+    return {r * std::cos(phi), r * std::sin(phi)};
+}
+
+glm::dvec3 squareToUniformSphere(glm::dvec2 u) { return squareToUniformCone(u, -1.0); }
+
+glm::dvec3 squareToUniformCone(glm::dvec2 u, double cosThetaMax) {
+    const double oneMinusCos = u.x * (1.0 - cosThetaMax);
+    return directionAround(1.0 - oneMinusCos, oneMinusCos, u.y);
+}
+
+double uniformConePdf(double cosThetaMax) { return 1.0 / (2.0 * kSamplingPi * (1.0 - cosThetaMax)); }
+
+double sphereConeCosine(double distance, double radius) {
+    if (distance <= radius) return -1.0;
+    const double sinTheta = radius / distance;
+    return std::sqrt(std::max(0.0, (1.0 - sinTheta) * (1.0 + sinTheta)));
+}
+
+glm::dvec3 squareToPhongLobe(glm::dvec2 u, double exponent) {
+    // The cdf of cos(theta) under the lobe is c^(n + 1), so c = u^(1 / (n + 1)). 1 - u keeps u = 0 on the
+    // axis and never takes the power of 0 (the horizon, where the density vanishes).
+    const double cosTheta = std::pow(1.0 - u.x, 1.0 / (exponent + 1.0));
+    return directionAround(cosTheta, 1.0 - cosTheta, u.y);
+}
+
+double phongLobePdf(double cosTheta, double exponent) {
+    if (cosTheta <= 0.0) return 0.0;
+    return (exponent + 1.0) / (2.0 * kSamplingPi) * std::pow(cosTheta, exponent);
+}
+
+glm::dvec3 squareToCosineHemisphere(glm::dvec2 u) {
+    const glm::dvec2 d = squareToConcentricDisk(u);
+    return {d.x, d.y, std::sqrt(std::max(0.0, 1.0 - glm::dot(d, d)))};
+}
+
+double cosineHemispherePdf(double cosTheta) { return cosTheta > 0.0 ? cosTheta / kSamplingPi : 0.0; }
+
+}  // namespace terracast
