@@ -673,6 +673,23 @@ int runScene(const SceneCommandOptions& o) {
                 throw InputError(fmt::format("--method: expected one of {}, found '{}'", surfaceMethodList(), o.method));
             for (auto& obj : d.objects) obj.method = o.method;
         }
+        if (!o.sampler.empty()) {
+            if (!parseSamplePattern(o.sampler))
+                throw InputError(fmt::format("--sampler: expected one of {}, found '{}'", samplePatternList(), o.sampler));
+            r.sampler = o.sampler;
+        }
+        if (!o.filter.empty()) {
+            if (!parseFilterKind(o.filter))
+                throw InputError(fmt::format("--filter: expected one of {}, found '{}'", filterKindList(), o.filter));
+            r.filter = o.filter;
+        }
+        if (o.adaptive && !(o.adaptiveError > 0.0))
+            throw InputError(fmt::format("--adaptive: expected an error > 0, found {}", o.adaptiveError));
+        if (o.focusPixel && d.camera.kind != CameraKind::ThinLens)
+            throw InputError(o.path + ": --focus needs a thin-lens camera (type = \"thin-lens\" in [camera])");
+        if (o.focusPixel && (o.focusX < 0 || o.focusY < 0 || o.focusX >= r.width || o.focusY >= r.height))
+            throw InputError(fmt::format("--focus: expected a pixel inside {}x{}, found {},{}", r.width, r.height,
+                                         o.focusX, o.focusY));
         if (r.output.empty() && !o.debugPixel)
             throw InputError(o.path + ": no output image: give -o OUT or set output in [render]");
         if (o.debugPixel && (o.debugX < 0 || o.debugY < 0 || o.debugX >= r.width || o.debugY >= r.height))
@@ -698,7 +715,16 @@ int runScene(const SceneCommandOptions& o) {
 
         const Scene scene(d, loaded.assets);
         const double aspect = double(r.width) / double(r.height);
-        const SceneCamera camera = makeSceneCamera(scene, d.camera, aspect);
+        SceneCamera camera = makeSceneCamera(scene, d.camera, aspect);
+        if (o.focusPixel) {
+            const auto focus = focusDistanceAt(scene, camera, o.focusX, o.focusY, r.width, r.height);
+            if (!focus)
+                throw InputError(fmt::format("--focus: pixel {},{} sees the sky; pick a pixel on an object", o.focusX,
+                                             o.focusY));
+            d.camera.focusDistanceM = *focus;
+            camera = makeSceneCamera(scene, d.camera, aspect);
+            if (!o.quiet) fmt::print(stderr, "terracast: focus distance {:.2f} m (pixel {},{})\n", *focus, o.focusX, o.focusY);
+        }
         SceneRenderSettings s;
         s.width = r.width;
         s.height = r.height;
@@ -708,6 +734,14 @@ int runScene(const SceneCommandOptions& o) {
         s.seed = r.seed;
         s.threads = r.threads;
         s.exposure = r.exposure;
+        s.pattern = *parseSamplePattern(r.sampler);
+        s.filter = PixelFilter::defaults(*parseFilterKind(r.filter));
+        s.adaptive = o.adaptive;
+        if (o.adaptive) {
+            s.rule.maxSamples = std::max(r.samples, 2);
+            s.rule.minSamples = std::min(s.rule.minSamples, s.rule.maxSamples);
+            s.rule.absoluteError = o.adaptiveError;
+        }
 
         if (o.debugPixel) {
             std::vector<RayRecord> tree;
@@ -725,9 +759,12 @@ int runScene(const SceneCommandOptions& o) {
         writeImage(r.output, RgbImage{film.width, film.height, std::move(film.rgb)});
         if (!o.quiet)
             fmt::print(stderr,
-                       "terracast: rendered {} ({}x{}, {} spp) in {:.2f} s: {} primary, {} shadow, {} reflection, {} "
+                       "terracast: rendered {} ({}x{}, {} spp{}) in {:.2f} s: {} primary, {} shadow, {} reflection, {} "
                        "refraction rays ({} reached the sky), {:.2f} Mrays/s, peak memory {}\n",
-                       r.output, r.width, r.height, s.samples, stats.seconds, stats.primary, stats.shadow,
+                       r.output, r.width, r.height,
+                       s.adaptive ? fmt::format("{:.1f}", double(stats.samples) / (double(r.width) * r.height))
+                                  : std::to_string(std::max(1, s.samples)),
+                       s.adaptive ? fmt::format(" on average, adaptive up to {}", s.rule.maxSamples) : "", stats.seconds, stats.primary, stats.shadow,
                        stats.reflection, stats.refraction, stats.skyRays,
                        stats.seconds > 0 ? double(stats.total()) / stats.seconds * 1e-6 : 0.0,
                        humanBytes(peakResidentBytes()));

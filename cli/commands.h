@@ -123,6 +123,12 @@ struct SceneCommandOptions {
     int threads = -1;                          // overrides render.threads when >= 0
     int64_t seed = -1;                         // overrides render.seed when >= 0
     std::string method;                        // overrides every height field's method when set
+    std::string sampler;                       // overrides render.sampler when set
+    std::string filter;                        // overrides render.filter when set
+    bool adaptive = false;                     // adaptive sampling, up to the samples per pixel
+    double adaptiveError = 0.002;              // adaptive: standard error of the luminance to reach
+    bool focusPixel = false;                   // thin lens: focus on what pixel (focusX, focusY) sees
+    int focusX = 0, focusY = 0;
     bool debugPixel = false;                   // print one pixel's ray tree on stdout
     int debugX = 0, debugY = 0;
     double maxMemoryBytes = 0.0;               // 0 = 80% of physical memory

@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
     addDemOptions(*infoCmd, info.dem);
 
     SceneCommandOptions scene;
-    std::string debugPixel, sceneSize;
+    std::string debugPixel, sceneSize, focusPixel;
     auto* sceneCmd = app.add_subcommand("scene", "Render a TOML scene: terrain, spheres, boxes, polygons, water, mirrors, glass");
     sceneCmd->add_option("SCENE", scene.path, "Scene file (TOML); see docs/scene-format.md")->required();
     sceneCmd->add_option("-o,--output", scene.output, "Output image .png or .exr (overrides render.output)");
@@ -88,6 +88,12 @@ int main(int argc, char** argv) {
     sceneCmd->add_option("--seed", scene.seed, "Random seed (overrides render.seed)")->check(CLI::NonNegativeNumber);
     sceneCmd->add_option("--method", scene.method, "Height-field method for every terrain (overrides the file)");
     sceneCmd->add_option("--debug-pixel", debugPixel, "Print the ray tree of pixel X,Y");
+    sceneCmd->add_option("--sampler", scene.sampler, "Sample pattern: regular, random, stratified, poisson, best-candidate");
+    sceneCmd->add_option("--filter", scene.filter, "Pixel filter: box, tent, gaussian");
+    sceneCmd->add_option("--focus", focusPixel, "Thin lens: focus on what pixel X,Y sees");
+    auto* adaptiveOpt = sceneCmd->add_option("--adaptive", scene.adaptiveError,
+                                             "Adaptive sampling up to --spp samples, until the standard error of a "
+                                             "pixel's luminance is below this (e.g. 0.002)");
     sceneCmd->add_option_function<std::string>(
         "--max-memory",
         [&scene](const std::string& text) {
@@ -229,6 +235,17 @@ int main(int argc, char** argv) {
             scene.debugX = int(dx);
             scene.debugY = int(dy);
         }
+        if (!focusPixel.empty()) {
+            double fx = 0, fy = 0;
+            if (!parsePair(focusPixel, fx, fy) || fx != std::floor(fx) || fy != std::floor(fy)) {
+                fmt::print(stderr, "terracast: error: --focus: expected X,Y pixel indices, found '{}'\n", focusPixel);
+                return 2;
+            }
+            scene.focusPixel = true;
+            scene.focusX = int(fx);
+            scene.focusY = int(fy);
+        }
+        scene.adaptive = adaptiveOpt->count() > 0;
         if (!sceneSize.empty() && !parseSize(sceneSize, scene.width, scene.height)) {
             fmt::print(stderr, "terracast: error: --size: expected WxH with positive integers, found '{}'\n", sceneSize);
             return 2;

@@ -1,5 +1,7 @@
 #include "tracer/scene_camera.h"
 
+#include "tracer/warps.h"
+
 #include <cmath>
 
 namespace terracast {
@@ -8,20 +10,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 double radians(double deg) { return deg * kPi / 180.0; }
 }  // namespace
-
-glm::dvec2 concentricDisk(glm::dvec2 u) {
-    const glm::dvec2 o = 2.0 * u - glm::dvec2(1.0);
-    if (o.x == 0.0 && o.y == 0.0) return {0.0, 0.0};
-    double r, theta;
-    if (std::abs(o.x) > std::abs(o.y)) {
-        r = o.x;
-        theta = kPi / 4.0 * (o.y / o.x);
-    } else {
-        r = o.y;
-        theta = kPi / 2.0 - kPi / 4.0 * (o.x / o.y);
-    }
-    return r * glm::dvec2(std::cos(theta), std::sin(theta));
-}
 
 SceneCamera::SceneCamera(const CameraDescription& description, const glm::dvec3& eye, const glm::dvec3& lookAt,
                          double aspect)
@@ -50,7 +38,7 @@ std::optional<Ray> SceneCamera::generate(double fx, double fy, glm::dvec2 lens, 
         // of the lens aperture through that point keeps it sharp and blurs everything off the plane.
         const glm::dvec3 dir = forward_ + sx * tanHalfV_ * aspect_ * right_ + sy * tanHalfV_ * up_;
         const glm::dvec3 focusPoint = eye + focus_ * dir;  // dir's component along forward_ is 1
-        const glm::dvec2 disk = d_.apertureRadiusM * concentricDisk(lens);
+        const glm::dvec2 disk = d_.apertureRadiusM * squareToConcentricDisk(lens);
         ray.origin = eye + disk.x * right_ + disk.y * up_;
         ray.dir = glm::normalize(focusPoint - ray.origin);
         return ray;

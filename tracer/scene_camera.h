@@ -30,8 +30,4 @@ private:
     double focus_ = 1.0;
 };
 
-// A unit disk sample from a unit square sample by Shirley and Chiu's concentric map (1997, "A low distortion
-// map between disk and square").
-glm::dvec2 concentricDisk(glm::dvec2 u);
-
 }  // namespace terracast

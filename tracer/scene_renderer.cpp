@@ -3,11 +3,14 @@
 #include "tracer/optics.h"
 #include "tracer/parallel.h"
 #include "tracer/terrain_renderer.h"
+#include "tracer/warps.h"
 
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <mutex>
+#include <optional>
 
 namespace terracast {
 
@@ -19,17 +22,6 @@ constexpr int kMaxShadowInterfaces = 16;
 
 float maxComponent(const glm::vec3& v) { return std::max({v.r, v.g, v.b}); }
 
-// A counter-based random number: the same (pixel, sample, seed, dimension) always gives the same value, so a
-// picture does not depend on how pixels are shared among threads (SplitMix64 finaliser, Steele et al. 2014).
-double hashUniform(uint64_t a, uint64_t b, uint64_t c, uint64_t d) {
-    uint64_t z = a * 0x9E3779B97F4A7C15ull ^ (b + 0xBF58476D1CE4E5B9ull) * 0x94D049BB133111EBull ^
-                 (c + 0x632BE59BD9B4E019ull) * 0xD6E8FEB86659FD93ull ^ d;
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    z ^= z >> 31;
-    return double(z >> 11) * 0x1.0p-53;
-}
-
 glm::vec3 slopeAlbedo(double normalZ) {
     // Grass on gentle slopes, scree on steeper ones, bare rock on cliffs.
     const glm::vec3 grass{0.22f, 0.36f, 0.15f}, scree{0.45f, 0.40f, 0.33f}, rock{0.38f, 0.37f, 0.36f};
@@ -40,7 +32,7 @@ glm::vec3 slopeAlbedo(double normalZ) {
 }
 
 struct Counters {
-    int64_t primary = 0, shadow = 0, reflection = 0, refraction = 0, sky = 0;
+    int64_t primary = 0, shadow = 0, reflection = 0, refraction = 0, sky = 0, samples = 0;
     void count(RayKind kind) {
         switch (kind) {
         case RayKind::Primary: ++primary; break;
@@ -55,29 +47,69 @@ struct Counters {
         s.reflection += reflection;
         s.refraction += refraction;
         s.skyRays += sky;
+        s.samples += samples;
     }
 };
 
-// What a light offers a point: the unit direction to it, the distance, and the radiance arriving.
+// What a light offers a point: the unit direction to it, the distance to reach it, and the irradiance it
+// brings to a surface facing it.
 struct LightSample {
     glm::dvec3 dir;
     double distance;
     glm::vec3 irradiance;
 };
 
-LightSample sampleLight(const SceneLight& light, const glm::dvec3& p) {
-    if (light.kind == LightKind::Sun) return {light.direction, kInfinity, light.radiance};
-    // Point and (for now, from their centre) sphere lights fall off with the square of the distance.
-    const glm::dvec3 toLight = light.position - p;
-    const double d = glm::length(toLight);
-    const double reach = light.kind == LightKind::Sphere ? std::max(0.0, d - light.radiusM) : d;
-    return {toLight / d, reach, light.radiance / float(std::max(d * d, 1e-12))};
+// The light as seen from `p`. Without `u` the direction aims at the light's centre (Whitted's hard shadows);
+// with a sample `u` in [0, 1)^2 it is spread uniformly over the solid angle the light subtends (the sun's disc,
+// or a spherical light), which averages into soft shadows (Cook, Porter and Carpenter 1984, "Distributed ray
+// tracing"). The irradiance is the light's whole irradiance either way; only visibility is sampled.
+LightSample sampleLight(const SceneLight& light, const glm::dvec3& p, const std::optional<glm::dvec2>& u) {
+    if (light.kind == LightKind::Sun) {
+        glm::dvec3 dir = light.direction;
+        if (u && light.cosAngularRadius < 1.0)
+            dir = Frame::around(light.direction).toWorld(squareToUniformCone(*u, light.cosAngularRadius));
+        return {dir, kInfinity, light.radiance};
+    }
+    const glm::dvec3 toCentre = light.position - p;
+    const double d = glm::length(toCentre);
+    const glm::dvec3 axis = toCentre / d;
+    const glm::vec3 irradiance = light.radiance / float(std::max(d * d, 1e-12));
+    if (light.kind == LightKind::Point) return {axis, d, irradiance};
+    if (!u || d <= light.radiusM) return {axis, std::max(0.0, d - light.radiusM), irradiance};
+    // A direction in the cone the sphere subtends, and the distance to the sphere's near surface along it.
+    const double cosMax = sphereConeCosine(d, light.radiusM);
+    const glm::dvec3 dir = Frame::around(axis).toWorld(squareToUniformCone(*u, cosMax));
+    const double along = glm::dot(toCentre, dir);
+    const double off2 = std::max(0.0, d * d - along * along);
+    const double reach = along - std::sqrt(std::max(0.0, light.radiusM * light.radiusM - off2));
+    return {dir, std::max(0.0, reach), irradiance};
 }
+
+// Where the samples of one camera sample come from: its pixel, its index, and the pattern. Dimension 0 is
+// the film position, 1 the lens, 2 (1D) the shutter time; then each bounce takes one 2D dimension per light
+// and one for the glossy lobe. Without distribution (one sample per pixel) every query returns none and the
+// tracer aims at centres.
+class SampleSource {
+public:
+    SampleSource(const PixelSampler* sampler, int px, int py, int k, int lights)
+        : sampler_(sampler), px_(px), py_(py), k_(k), lights_(lights) {}
+    std::optional<glm::dvec2> light(int depth, int index) const { return get(uint32_t(3 + depth * (lights_ + 1) + index)); }
+    std::optional<glm::dvec2> gloss(int depth) const { return get(uint32_t(3 + depth * (lights_ + 1) + lights_)); }
+
+private:
+    std::optional<glm::dvec2> get(uint32_t dimension) const {
+        if (!sampler_) return std::nullopt;
+        return sampler_->sample(px_, py_, k_, dimension);
+    }
+    const PixelSampler* sampler_;
+    int px_, py_, k_, lights_;
+};
 
 class Tracer {
 public:
-    Tracer(const Scene& scene, const SceneRenderSettings& settings, Counters& counters, std::vector<RayRecord>* tree)
-        : scene_(scene), s_(settings), counters_(counters), tree_(tree) {}
+    Tracer(const Scene& scene, const SceneRenderSettings& settings, Counters& counters, std::vector<RayRecord>* tree,
+           const SampleSource& samples)
+        : scene_(scene), s_(settings), counters_(counters), tree_(tree), samples_(samples) {}
 
     // Radiance arriving along `ray` (unit direction), travelling through a medium absorbing `sigma` per metre.
     glm::vec3 trace(const Ray& ray, RayKind kind, int depth, const glm::vec3& weight, const glm::vec3& sigma) {
@@ -109,11 +141,11 @@ private:
             const glm::vec3 albedo = surfaceColour(obj, m, hit);
             // Sky light: the sky's colour straight up, stronger on surfaces facing up.
             radiance += scene_.sky().ambient * float(0.5 + 0.5 * n.z) * albedo * m.kd * skyAmbient();
-            for (const SceneLight& light : scene_.lights()) {
-                const LightSample ls = sampleLight(light, hit.point);
+            for (size_t li = 0; li < scene_.lights().size(); ++li) {
+                const LightSample ls = sampleLight(scene_.lights()[li], hit.point, samples_.light(depth, int(li)));
                 const double cosL = glm::dot(n, ls.dir);
                 if (cosL <= 0.0) continue;  // the surface faces away: no shadow ray
-                const glm::vec3 t = shadowTransmittance(hit, ls.dir, ls.distance, sigma, depth, weight);
+                const glm::vec3 t = shadowTransmittance(hit, ls.dir, ls.distance, sigma, depth, weight, ray.time);
                 if (t == glm::vec3(0.0f)) continue;
                 glm::vec3 local = albedo * m.kd * float(cosL);
                 if (m.ks > 0.0f) {
@@ -128,7 +160,7 @@ private:
         if (maxComponent(m.mirror) > 0.0f) {
             const glm::vec3 w = weight * m.mirror;
             if (maxComponent(w) >= s_.minWeight) {
-                const glm::dvec3 r = glm::normalize(reflect(ray.dir, n));
+                const glm::dvec3 r = reflectedDirection(ray.dir, n, m.gloss, depth);
                 radiance += m.mirror * trace(spawn(hit, r, ray.time), RayKind::Reflection, depth + 1, w, sigma);
             }
         }
@@ -174,9 +206,9 @@ private:
     // through dielectrics, the Fresnel transmission at each interface and Beer-Lambert absorption inside
     // (without bending the ray: Whitted's transparent shadows).
     glm::vec3 shadowTransmittance(const SurfaceHit& from, const glm::dvec3& dir, double distance, glm::vec3 sigma,
-                                  int depth, const glm::vec3& weight) {
+                                  int depth, const glm::vec3& weight, double time) {
         counters_.count(RayKind::Shadow);
-        Ray ray = spawn(from, dir, 0.0);
+        Ray ray = spawn(from, dir, time);
         const size_t record = beginRecord(ray, RayKind::Shadow, depth + 1, weight);
         const double reach = distance - from.errorM;
         if (scene_.occludedByOpaque(ray, {0.0, reach})) {
@@ -200,7 +232,7 @@ private:
                 }
                 sigma = entering ? m.absorptionPerM : glm::vec3(0.0f);
                 left -= hit.t;
-                ray = spawn(hit, dir, 0.0);
+                ray = spawn(hit, dir, time);
                 if (k + 1 == kMaxShadowInterfaces) t = glm::vec3(0.0f);
             }
             if (std::isfinite(left) && sigma != glm::vec3(0.0f)) t *= beerLambert(sigma, left);
@@ -237,6 +269,18 @@ private:
         return l;
     }
 
+    // The mirror direction, or with a gloss exponent a direction drawn from Phong's power-cosine lobe around
+    // it (folded back above the surface when the lobe dips below it).
+    glm::dvec3 reflectedDirection(const glm::dvec3& dir, const glm::dvec3& n, float gloss, int depth) const {
+        const glm::dvec3 r = glm::normalize(reflect(dir, n));
+        if (gloss <= 0.0f) return r;
+        const auto u = samples_.gloss(depth);
+        if (!u) return r;
+        glm::dvec3 g = Frame::around(r).toWorld(squareToPhongLobe(*u, double(gloss)));
+        if (glm::dot(g, n) <= 0.0) g = glm::normalize(reflect(g, n));
+        return g;
+    }
+
     static Ray spawn(const SurfaceHit& hit, const glm::dvec3& dir, double time) {
         return {offsetOrigin(hit, dir), dir, time};
     }
@@ -257,33 +301,55 @@ private:
     const SceneRenderSettings& s_;
     Counters& counters_;
     std::vector<RayRecord>* tree_;
+    SampleSource samples_;
 };
 
-// The film position of sample k of pixel (x, y): the centre for one sample, otherwise a jittered stratum of
-// a sqrt(n) x sqrt(n) grid (samples beyond the largest square are uniform).
-glm::dvec2 samplePosition(int x, int y, int k, int n, uint64_t seed) {
-    if (n <= 1) return {x + 0.5, y + 0.5};
-    const int side = int(std::sqrt(double(n)));
-    const double jx = hashUniform(uint64_t(x), uint64_t(y), uint64_t(k), seed * 4 + 0);
-    const double jy = hashUniform(uint64_t(x), uint64_t(y), uint64_t(k), seed * 4 + 1);
-    if (k < side * side) return {x + (k % side + jx) / side, y + (k / side + jy) / side};
-    return {x + jx, y + jy};
+// One camera sample: its film position, lens point and time from the sampler, traced and returned with its
+// filter weight.
+struct CameraSample {
+    glm::vec3 radiance{0.0f};
+    double weight = 0.0;
+};
+
+CameraSample cameraSample(const Scene& scene, const SceneCamera& camera, const SceneRenderSettings& s,
+                          const PixelSampler* sampler, int x, int y, int k, Counters& counters,
+                          std::vector<RayRecord>* tree) {
+    glm::dvec2 offset{0.0}, lens{0.5};
+    double time = 0.0;
+    if (sampler) {
+        offset = s.filter.offsetOf(sampler->sample(x, y, k, 0));
+        lens = sampler->sample(x, y, k, 1);
+        time = sampler->sample1D(x, y, k, 2);
+    }
+    CameraSample out;
+    out.weight = sampler ? s.filter.evaluate(offset) : 1.0;
+    const auto ray = camera.generate((x + 0.5 + offset.x) / s.width, (y + 0.5 + offset.y) / s.height, lens, time);
+    if (!ray) return out;  // outside a fisheye's circle: black
+    Tracer tracer(scene, s, counters, tree, SampleSource(sampler, x, y, k, int(scene.lights().size())));
+    out.radiance = tracer.trace(*ray, RayKind::Primary, 0, glm::vec3(1.0f), glm::vec3(0.0f));
+    return out;
 }
 
-glm::vec3 pixelValue(const Scene& scene, const SceneCamera& camera, const SceneRenderSettings& s, int x, int y,
-                     Counters& counters, std::vector<RayRecord>* tree) {
-    Tracer tracer(scene, s, counters, tree);
-    glm::vec3 sum{0.0f};
-    const int n = std::max(1, s.samples);
+glm::vec3 pixelValue(const Scene& scene, const SceneCamera& camera, const SceneRenderSettings& s,
+                     const PixelSampler* sampler, int x, int y, Counters& counters, std::vector<RayRecord>* tree) {
+    PixelAccumulator acc;
+    RunningStats stats;
+    const int n = sampler ? (s.adaptive ? s.rule.maxSamples : sampler->samplesPerPixel()) : 1;
     for (int k = 0; k < n; ++k) {
-        const glm::dvec2 p = samplePosition(x, y, k, n, s.seed);
-        const glm::dvec2 lens{hashUniform(uint64_t(x), uint64_t(y), uint64_t(k), s.seed * 4 + 2),
-                              hashUniform(uint64_t(x), uint64_t(y), uint64_t(k), s.seed * 4 + 3)};
-        const auto ray = camera.generate(p.x / s.width, p.y / s.height, n > 1 ? lens : glm::dvec2(0.5), 0.0);
-        if (!ray) continue;  // outside a fisheye's circle: black
-        sum += tracer.trace(*ray, RayKind::Primary, 0, glm::vec3(1.0f), glm::vec3(0.0f));
+        const CameraSample c = cameraSample(scene, camera, s, sampler, x, y, k, counters, tree);
+        acc.add(c.radiance, c.weight);
+        ++counters.samples;
+        if (!s.adaptive) continue;
+        stats.add(luminance(c.radiance));
+        if (s.rule.done(stats)) break;
     }
-    return sum * (s.exposure / float(n));
+    return acc.value() * s.exposure;
+}
+
+// The sampler of a render: none for one sample per pixel (Whitted: centres only).
+std::unique_ptr<PixelSampler> makeSampler(const SceneRenderSettings& s) {
+    if (!s.adaptive && s.samples <= 1) return nullptr;
+    return std::make_unique<PixelSampler>(s.pattern, s.adaptive ? s.rule.maxSamples : s.samples, s.seed);
 }
 
 }  // namespace
@@ -344,10 +410,20 @@ SceneCamera makeSceneCamera(const Scene& scene, const CameraDescription& d, doub
     return SceneCamera(desc, eye, look, aspect);
 }
 
+std::optional<double> focusDistanceAt(const Scene& scene, const SceneCamera& camera, int x, int y, int width,
+                                      int height) {
+    // The lens centre sees what a pinhole would.
+    const auto ray = camera.generate((x + 0.5) / width, (y + 0.5) / height, {0.5, 0.5}, 0.0);
+    SurfaceHit hit;
+    if (!ray || !scene.intersect(*ray, {0.0, kInfinity}, hit)) return std::nullopt;
+    return glm::dot(hit.point - camera.eye(), camera.forward());
+}
+
 glm::vec3 tracePixel(const Scene& scene, const SceneCamera& camera, const SceneRenderSettings& s, int x, int y,
                      std::vector<RayRecord>* tree, SceneRayStats* stats) {
     Counters counters;
-    const glm::vec3 value = pixelValue(scene, camera, s, x, y, counters, tree);
+    const auto sampler = makeSampler(s);
+    const glm::vec3 value = pixelValue(scene, camera, s, sampler.get(), x, y, counters, tree);
     if (stats) counters.addTo(*stats);
     return value;
 }
@@ -359,10 +435,11 @@ Film renderScene(const Scene& scene, const SceneCamera& camera, const SceneRende
     SceneRayStats total;
     int64_t pixelsDone = 0;
     const int64_t pixels = int64_t(s.width) * s.height;
+    const auto sampler = makeSampler(s);
     parallelForTiles(s.width, s.height, s.tileSize, s.threads, [&](int x0, int y0, int x1, int y1) {
         Counters counters;
         for (int y = y0; y < y1; ++y)
-            for (int x = x0; x < x1; ++x) film.set(x, y, pixelValue(scene, camera, s, x, y, counters, nullptr));
+            for (int x = x0; x < x1; ++x) film.set(x, y, pixelValue(scene, camera, s, sampler.get(), x, y, counters, nullptr));
         std::lock_guard lock(mutex);
         counters.addTo(total);
         pixelsDone += int64_t(x1 - x0) * (y1 - y0);

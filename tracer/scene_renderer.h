@@ -2,12 +2,16 @@
 // Fresnel with total internal reflection, Beer-Lambert absorption inside media, a sky for escaping rays.
 #pragma once
 
+#include "tracer/adaptive.h"
 #include "tracer/film.h"
+#include "tracer/filters.h"
+#include "tracer/samplers.h"
 #include "tracer/scene.h"
 #include "tracer/scene_camera.h"
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,7 +23,13 @@ const char* rayKindName(RayKind kind);
 struct SceneRenderSettings {
     int width = 960;
     int height = 540;
-    int samples = 1;            // per pixel; 1 traces the pixel centre
+    int samples = 1;            // per pixel; 1 traces the pixel centre, lens centre and light centres (Whitted)
+    SamplePattern pattern = SamplePattern::Stratified;
+    PixelFilter filter;         // box over the pixel by default
+    // Adaptive effort: with `adaptive`, a pixel takes samples until its standard error falls below the rule's
+    // threshold, between rule.minSamples and rule.maxSamples (`samples` is then ignored).
+    bool adaptive = false;
+    AdaptiveStopRule rule;
     int maxDepth = 6;           // reflection and refraction bounces after the primary ray
     double minWeight = 0.01;    // a secondary ray is not traced when its path weight falls below this
     uint64_t seed = 0;
@@ -37,6 +47,7 @@ struct SceneRayStats {
     int64_t reflection = 0;
     int64_t refraction = 0;
     int64_t skyRays = 0;
+    int64_t samples = 0;        // camera samples taken (pixels times samples per pixel, or fewer when adaptive)
     double seconds = 0.0;
     int64_t total() const { return primary + shadow + reflection + refraction; }
 };
@@ -55,6 +66,11 @@ struct RayRecord {
 
 // The camera the description asks for, framing the scene automatically where eye or look_at are unset.
 SceneCamera makeSceneCamera(const Scene& scene, const CameraDescription& camera, double aspect);
+
+// The distance along the view axis from the camera to what the centre of pixel (x, y) of a width x height
+// picture sees (for focusing a thin lens on it); none when that ray reaches the sky.
+std::optional<double> focusDistanceAt(const Scene& scene, const SceneCamera& camera, int x, int y, int width,
+                                      int height);
 
 // Renders the scene into a linear RGB film (radiance times exposure).
 Film renderScene(const Scene& scene, const SceneCamera& camera, const SceneRenderSettings& settings,

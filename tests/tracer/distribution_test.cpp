@@ -1,0 +1,283 @@
+// Distribution ray tracing through the scene renderer, against geometry: the penumbra of a sphere under a
+// spherical light, the coverage of a sphere moving across the shutter, the blur of a point off the focus
+// plane, the spread of glossy reflections, and how fast soft-shadow noise falls with the sample count.
+#include "tracer/convergence.h"
+#include "tracer/scene_renderer.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using namespace terracast;
+
+namespace {
+
+MaterialDescription matte(const std::string& name, float kd) {
+    MaterialDescription m;
+    m.name = name;
+    m.colour = glm::vec3(1.0f);
+    m.kd = kd;
+    return m;
+}
+
+ObjectDescription sphereAt(glm::dvec3 c, double r, const std::string& material) {
+    ObjectDescription o;
+    o.kind = ObjectKind::Sphere;
+    o.centre = c;
+    o.radiusM = r;
+    o.material = material;
+    return o;
+}
+
+// A one-pixel-high orthographic strip looking straight down on the line y = 0, x in [x0, x1].
+CameraDescription stripCamera(double x0, double x1, double z) {
+    CameraDescription c;
+    c.kind = CameraKind::Orthographic;
+    c.eye = glm::dvec3(0.5 * (x0 + x1), 0.0, z);
+    c.lookAt = glm::dvec3(0.5 * (x0 + x1), 0.0, z - 1.0);
+    c.up = {0, 1, 0};
+    return c;
+}
+
+Film render(const SceneDescription& d, int width, int height, int spp, SamplePattern pattern, uint64_t seed = 0) {
+    Scene scene(d, {});
+    SceneRenderSettings s;
+    s.width = width;
+    s.height = height;
+    s.samples = spp;
+    s.pattern = pattern;
+    s.seed = seed;
+    s.threads = 2;
+    return renderScene(scene, makeSceneCamera(scene, d.camera, double(width) / height), s);
+}
+
+// Angular radius of a sphere of radius r seen from distance d.
+double angularRadius(double r, double d) { return std::asin(std::min(1.0, r / d)); }
+
+}  // namespace
+
+TEST_CASE("The penumbra behind a sphere under a spherical light spans the predicted interval", "[distribution]") {
+    // Light of radius 1 at height 10, occluder of radius 1 at height 5, both above the origin; floor at z = 0.
+    const double lightR = 1.0, lightH = 10.0, occR = 1.0, occH = 5.0;
+    SceneDescription d;
+    d.materials.push_back(matte("floor", 1.0f));
+    ObjectDescription floor;
+    floor.kind = ObjectKind::Plane;
+    floor.material = "floor";
+    d.objects.push_back(floor);
+    d.sky.kind = SkyKind::None;
+    LightDescription light;
+    light.kind = LightKind::Sphere;
+    light.position = {0, 0, lightH};
+    light.radiusM = lightR;
+    light.intensity = 100.0f;
+    d.lights.push_back(light);
+    const double x0 = 0.0, x1 = 8.0;
+    const int width = 400;
+    // The camera sits just above the floor, below the occluder, so it sees only the floor.
+    d.camera = stripCamera(x0, x1, 0.5);
+    d.camera.orthoHeightM = (x1 - x0) / width;  // square pixels
+    const Film lit = render(d, width, 1, 256, SamplePattern::Stratified);
+    d.objects.push_back(sphereAt({0, 0, occH}, occR, "floor"));
+    const Film shadowed = render(d, width, 1, 256, SamplePattern::Stratified);
+
+    // Seen from a floor point, the light and the occluder are discs on the sky of angular radii aL and aO whose
+    // centres are theta apart: fully lit once theta >= aL + aO, in umbra while theta <= aO - aL. These are the
+    // similar-triangles edges of the shadow, measured along the floor.
+    auto edge = [&](bool outer) {
+        double lo = 0.0, hi = x1;
+        for (int k = 0; k < 100; ++k) {
+            const double x = 0.5 * (lo + hi);
+            const glm::dvec3 p{x, 0, 0}, toL{-x, 0, lightH}, toO{-x, 0, occH};
+            const double theta = std::acos(glm::dot(glm::normalize(toL), glm::normalize(toO)));
+            const double aL = angularRadius(lightR, glm::length(toL)), aO = angularRadius(occR, glm::length(toO));
+            const bool beyond = outer ? theta >= aL + aO : theta > aO - aL;
+            (beyond ? hi : lo) = x;
+        }
+        return 0.5 * (lo + hi);
+    };
+    const double inner = edge(false), outer = edge(true);
+    INFO("umbra ends at " << inner << " m, penumbra at " << outer << " m");
+    // Similar triangles on the vertical section: the penumbra's outer edge near x = occR * lightH / (lightH - occH)
+    // + lightR * occH / (lightH - occH) = 3 m, the umbra near (occR * lightH - lightR * occH) / (lightH - occH) = 1 m.
+    CHECK(outer == Approx(3.0).margin(0.35));
+    CHECK(inner == Approx(1.0).margin(0.35));
+    const double pixel = (x1 - x0) / width;
+    int umbra = 0, penumbra = 0, full = 0;
+    for (int i = 0; i < width; ++i) {
+        const double x = x0 + (i + 0.5) * pixel;
+        const double v = double(shadowed.get(i, 0).r / lit.get(i, 0).r);
+        if (x < inner - 2 * pixel) {
+            CHECK(v == 0.0);
+            ++umbra;
+        } else if (x > outer + 2 * pixel) {
+            CHECK(v == Approx(1.0).epsilon(1e-6));
+            ++full;
+        } else if (x > inner + 0.1 * (outer - inner) && x < outer - 0.1 * (outer - inner)) {
+            // Near its edges the penumbra's partial cover is too thin for 256 samples to see.
+            CHECK(v > 0.0);
+            CHECK(v < 1.0);
+            ++penumbra;
+        }
+    }
+    CHECK(umbra > 20);
+    CHECK(penumbra > 50);
+    CHECK(full > 100);
+}
+
+TEST_CASE("A sphere moving across the shutter covers each pixel on its path for the predicted time", "[distribution]") {
+    // A black sphere of radius 1 moves from x = -5 to x = 5 during the shutter; the sky is white. A point x on
+    // the path is covered while |x - (-5 + 10 t)| <= 1: for a fifth of the shutter when |x| <= 4.
+    SceneDescription d;
+    d.materials.push_back(matte("black", 0.0f));
+    d.objects.push_back(sphereAt({-5, 0, 0}, 1.0, "black"));
+    d.objects.back().velocity = {10, 0, 0};
+    d.sky.kind = SkyKind::Flat;
+    d.sky.colour = glm::vec3(1.0f);
+    d.camera = stripCamera(-8.0, 8.0, 10.0);
+    d.camera.shutterOpen = 0.0;
+    d.camera.shutterClose = 1.0;
+    const int width = 320;
+    d.camera.orthoHeightM = 16.0 / width;
+    const Film film = render(d, width, 1, 256, SamplePattern::Stratified);
+    auto coverage = [](double x) {
+        const double t0 = std::clamp((x + 4.0) / 10.0, 0.0, 1.0), t1 = std::clamp((x + 6.0) / 10.0, 0.0, 1.0);
+        return t1 - t0;
+    };
+    for (int i = 0; i < width; ++i) {
+        const double x = -8.0 + (i + 0.5) * 16.0 / width;
+        if (std::abs(std::abs(x) - 4.0) < 0.15 || std::abs(std::abs(x) - 6.0) < 0.15) continue;  // kinks
+        INFO("x = " << x);
+        CHECK(1.0 - double(film.get(i, 0).r) == Approx(coverage(x)).margin(0.01));
+    }
+}
+
+TEST_CASE("A thin lens blurs a point off the focus plane over the predicted circle of confusion", "[distribution]") {
+    // Camera at the origin looking north, focused at 10 m with a 0.1 m lens radius, fov 10 degrees over 200
+    // pixels. A small black ball on a white sky: at the focus distance it keeps its own size; at 5 m it spreads
+    // by the circle of confusion, 2 a |z - f| / z on the focus plane, seen from the lens.
+    const double a = 0.1, f = 10.0, fov = 10.0;
+    const int size = 200;
+    const double pixelsPerRadian = size / (2.0 * std::tan(fov * M_PI / 360.0));
+    auto darkWidth = [&](double z, double r) {
+        SceneDescription d;
+        d.materials.push_back(matte("black", 0.0f));
+        d.objects.push_back(sphereAt({0, z, 0}, r, "black"));
+        d.sky.kind = SkyKind::Flat;
+        d.sky.colour = glm::vec3(1.0f);
+        d.camera.kind = CameraKind::ThinLens;
+        d.camera.eye = glm::dvec3(0.0);
+        d.camera.lookAt = glm::dvec3(0, 1, 0);
+        d.camera.fovDeg = fov;
+        d.camera.apertureRadiusM = a;
+        d.camera.focusDistanceM = f;
+        const Film film = render(d, size, size, 256, SamplePattern::Stratified);
+        // Width of the pixels along the middle row that lose any light, and of the transition zone.
+        int dark = 0, partial = 0;
+        for (int x = 0; x < size; ++x) {
+            const float v = film.get(x, size / 2).r;
+            dark += v < 0.995f;
+            partial += v > 0.01f && v < 0.99f;
+        }
+        return std::pair<double, double>(dark, partial);
+    };
+    const double r = 0.02;
+    const auto [sharp, sharpEdge] = darkWidth(f, 2.0 * r);
+    CHECK(sharp == Approx(2.0 * 2.0 * r / f * pixelsPerRadian).margin(2.0));
+    CHECK(sharpEdge <= 4.0);
+    const auto [blurred, blurredEdge] = darkWidth(5.0, r);
+    const double coc = 2.0 * a * std::abs(5.0 - f) / 5.0 / f;  // radians, as seen from the lens
+    INFO("predicted width " << (coc + 2.0 * r / 5.0) * pixelsPerRadian << " px");
+    CHECK(blurred == Approx((coc + 2.0 * r / 5.0) * pixelsPerRadian).margin(3.0));
+    CHECK(blurredEdge > 10.0);
+}
+
+TEST_CASE("Glossy reflections spread around the mirror direction by the Phong lobe", "[distribution]") {
+    SceneDescription d;
+    MaterialDescription m;
+    m.name = "brushed";
+    m.kd = 0.0f;
+    m.mirror = glm::vec3(0.9f);
+    m.gloss = 50.0f;
+    d.materials.push_back(m);
+    ObjectDescription floor;
+    floor.kind = ObjectKind::Plane;
+    floor.material = "brushed";
+    d.objects.push_back(floor);
+    d.sky.kind = SkyKind::Flat;
+    d.camera.eye = glm::dvec3(0, 0, 5);
+    d.camera.lookAt = glm::dvec3(0, 5, 0);
+    d.render.width = d.render.height = 1;
+    Scene scene(d, {});
+    const SceneCamera cam = makeSceneCamera(scene, d.camera, 1.0);
+    SceneRenderSettings s;
+    s.width = s.height = 1;
+    s.samples = 4096;
+    s.pattern = SamplePattern::Random;
+    s.maxDepth = 1;
+    std::vector<RayRecord> tree;
+    tracePixel(scene, cam, s, 0, 0, &tree);
+    // Under a lobe proportional to cos^n the mean cosine to the axis is (n + 1) / (n + 2); the pixel's film
+    // positions vary a little, so the mirror direction of each primary ray is the axis.
+    double sumCos = 0.0;
+    int reflections = 0;
+    glm::dvec3 mirrorDir{0.0};
+    for (const RayRecord& r : tree) {
+        if (r.kind == RayKind::Primary) mirrorDir = glm::dvec3(r.dir.x, r.dir.y, -r.dir.z);
+        if (r.kind != RayKind::Reflection) continue;
+        REQUIRE(r.dir.z > 0.0);
+        sumCos += glm::dot(r.dir, mirrorDir);
+        ++reflections;
+    }
+    REQUIRE(reflections == 4096);
+    CHECK(sumCos / reflections == Approx(51.0 / 52.0).margin(0.002));
+}
+
+TEST_CASE("Soft-shadow noise falls as 1/sqrt(spp) with random samples and faster with stratified ones", "[distribution]") {
+    // A sphere between a floor and a spherical light; the camera looks down on the penumbra.
+    SceneDescription d;
+    d.materials.push_back(matte("floor", 1.0f));
+    ObjectDescription floor;
+    floor.kind = ObjectKind::Plane;
+    floor.material = "floor";
+    d.objects.push_back(floor);
+    d.objects.push_back(sphereAt({0, 0, 5}, 1.0, "floor"));
+    d.sky.kind = SkyKind::None;
+    LightDescription light;
+    light.kind = LightKind::Sphere;
+    light.position = {0, 0, 10};
+    light.radiusM = 1.5;
+    light.intensity = 100.0f;
+    d.lights.push_back(light);
+    d.camera.kind = CameraKind::Orthographic;
+    d.camera.eye = glm::dvec3(2.0, 0.0, 20.0);
+    d.camera.lookAt = glm::dvec3(2.0, 0.0, 0.0);
+    d.camera.up = {0, 1, 0};
+    d.camera.orthoHeightM = 3.0;
+    const int size = 24;
+    const Film reference = render(d, size, size, 4096, SamplePattern::Stratified, 99);
+    auto rms = [&](SamplePattern pattern, int spp) {
+        double sum = 0.0;
+        int n = 0;
+        for (uint64_t seed = 1; seed <= 4; ++seed) {
+            const Film f = render(d, size, size, spp, pattern, seed);
+            for (size_t k = 0; k < f.rgb.size(); k += 3) {
+                const double e = double(f.rgb[k]) - double(reference.rgb[k]);
+                sum += e * e;
+                ++n;
+            }
+        }
+        return std::sqrt(sum / n);
+    };
+    const std::vector<double> counts{4, 16, 64, 256};
+    std::vector<double> random, stratified;
+    for (double n : counts) {
+        random.push_back(rms(SamplePattern::Random, int(n)));
+        stratified.push_back(rms(SamplePattern::Stratified, int(n)));
+    }
+    const PowerLawFit r = fitPowerLaw(counts, random), s = fitPowerLaw(counts, stratified);
+    INFO("random slope " << r.exponent << ", stratified slope " << s.exponent);
+    CHECK(r.exponent == Approx(-0.5).margin(0.1));
+    CHECK(s.exponent < r.exponent - 0.15);
+    CHECK(stratified.back() < random.back());
+}
