@@ -7,6 +7,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <filesystem>
 
 using namespace terracast;
@@ -27,7 +28,11 @@ Rendered renderSample(const std::string& name, int width, int height) {
     SceneRenderSettings s;
     s.width = width;
     s.height = height;
-    s.samples = 1;
+    // The file's own sampling, capped so that CI stays quick.
+    s.samples = std::min(d.render.samples, 16);
+    s.pattern = *parseSamplePattern(d.render.sampler);
+    s.filter = PixelFilter::defaults(*parseFilterKind(d.render.filter));
+    s.seed = d.render.seed;
     s.maxDepth = d.render.maxDepth;
     s.minWeight = d.render.minWeight;
     s.exposure = d.render.exposure;
@@ -99,6 +104,14 @@ TEST_CASE("Sample scene: a low sun over the terrain and the sea", "[scene][sampl
     CHECK(r.stats.reflection > 0);  // the sea
     CHECK(r.stats.refraction > 0);
     checkSceneGolden("low-sun", r);
+}
+
+TEST_CASE("Sample scene: depth of field, soft shadows, glossy reflection and motion blur", "[scene][samples]") {
+    const Rendered r = renderSample("distribution", 160, 90);
+    CHECK(r.stats.primary == 160 * 90 * 16);
+    CHECK(r.stats.refraction == 0);
+    CHECK(r.stats.reflection > 0);
+    checkSceneGolden("distribution", r);
 }
 
 TEST_CASE("Sample scene: absorption and dispersion", "[scene][samples]") {
