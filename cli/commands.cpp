@@ -651,8 +651,10 @@ void printRayTree(int x, int y, const std::vector<RayRecord>& tree) {
         fmt::print("{:{}}{} from {} dir {} -> {}", "", 2 * r.depth, rayKindName(r.kind), vecText(r.origin),
                    vecText(r.dir), r.hit);
         if (std::isfinite(r.t) && r.kind != RayKind::Shadow) fmt::print(" at {:.4g} m", r.t);
-        fmt::print("  weight ({:.3g}, {:.3g}, {:.3g}) contribution ({:.4g}, {:.4g}, {:.4g})\n", r.weight.r, r.weight.g,
-                   r.weight.b, r.contribution.r, r.contribution.g, r.contribution.b);
+        // A shadow ray's record holds the fraction of the light that gets through, not weighted radiance.
+        fmt::print("  weight ({:.3g}, {:.3g}, {:.3g}) {} ({:.4g}, {:.4g}, {:.4g})\n", r.weight.r, r.weight.g, r.weight.b,
+                   r.kind == RayKind::Shadow ? "transmittance" : "contribution", r.contribution.r, r.contribution.g,
+                   r.contribution.b);
     }
 }
 
@@ -690,12 +692,14 @@ int runScene(const SceneCommandOptions& o) {
         if (o.focusPixel && (o.focusX < 0 || o.focusY < 0 || o.focusX >= r.width || o.focusY >= r.height))
             throw InputError(fmt::format("--focus: expected a pixel inside {}x{}, found {},{}", r.width, r.height,
                                          o.focusX, o.focusY));
-        if (r.output.empty() && !o.debugPixel)
+        // With --debug-pixel only an output named on the command line is rendered, never the file's own.
+        const bool writesImage = !o.debugPixel || !o.output.empty();
+        if (r.output.empty() && writesImage)
             throw InputError(o.path + ": no output image: give -o OUT or set output in [render]");
         if (o.debugPixel && (o.debugX < 0 || o.debugY < 0 || o.debugX >= r.width || o.debugY >= r.height))
             throw InputError(fmt::format("--debug-pixel: expected a pixel inside {}x{}, found {},{}", r.width, r.height,
                                          o.debugX, o.debugY));
-        if (!r.output.empty()) {
+        if (writesImage) {
             checkOutputPath(r.output, o.path);
             for (const auto& obj : d.objects)
                 if (obj.kind == ObjectKind::HeightField) checkNotInput(r.output, obj.filePath, "output path");
@@ -748,7 +752,7 @@ int runScene(const SceneCommandOptions& o) {
             const glm::vec3 v = tracePixel(scene, camera, s, o.debugX, o.debugY, &tree);
             printRayTree(o.debugX, o.debugY, tree);
             fmt::print("pixel value ({:.4g}, {:.4g}, {:.4g})\n", v.r, v.g, v.b);
-            if (r.output.empty()) return 0;
+            if (!writesImage) return 0;
         }
 
         TerminalProgress progress(!o.quiet);

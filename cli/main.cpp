@@ -87,7 +87,7 @@ int main(int argc, char** argv) {
     sceneCmd->add_option("--threads", scene.threads, "Worker threads, 0 = all cores")->check(CLI::NonNegativeNumber);
     sceneCmd->add_option("--seed", scene.seed, "Random seed (overrides render.seed)")->check(CLI::NonNegativeNumber);
     sceneCmd->add_option("--method", scene.method, "Height-field method for every terrain (overrides the file)");
-    sceneCmd->add_option("--debug-pixel", debugPixel, "Print the ray tree of pixel X,Y");
+    sceneCmd->add_option("--debug-pixel", debugPixel, "Print the ray tree of pixel X,Y (and render only with -o)");
     sceneCmd->add_option("--sampler", scene.sampler, "Sample pattern: regular, random, stratified, poisson, best-candidate");
     sceneCmd->add_option("--filter", scene.filter, "Pixel filter: box, tent, gaussian");
     sceneCmd->add_option("--focus", focusPixel, "Thin lens: focus on what pixel X,Y sees");

@@ -61,7 +61,8 @@ struct RayRecord {
     std::string hit;              // object name, "sky", "light" (shadow ray reached the light) or "blocked"
     double t = 0.0;               // distance to the hit (infinity for the sky)
     glm::vec3 weight{1.0f};       // path weight of the ray
-    glm::vec3 contribution{0.0f}; // radiance the ray returns, times its weight
+    glm::vec3 contribution{0.0f}; // radiance the ray returns, times its weight; for a shadow ray, the
+                                  // transmittance towards the light (0 when blocked), unweighted
 };
 
 // The camera the description asks for, framing the scene automatically where eye or look_at are unset.

@@ -1,13 +1,22 @@
 // `terracast scene` end to end through the real executable: a sample scene renders, the ray tree of one pixel
-// prints, scene-file errors cite file:line:column with exit 2, and the picture does not depend on threads.
+// prints (and nothing is written without -o), scene-file errors cite file:line:column with exit 2, and the
+// picture does not depend on threads.
 #include "support/run_command.h"
 #include "support/temp_dir.h"
 #include "loaders/image_io.h"
 
 #include <catch2/catch.hpp>
 
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <sstream>
+#include <vector>
 
 using namespace terracast;
 using namespace terracast::testing;
@@ -30,14 +39,149 @@ TEST_CASE("CLI: scene renders a sample scene and reports rays by kind", "[cli][s
     CHECK(r.err.find(" 0 refraction rays") != std::string::npos);
 }
 
-TEST_CASE("CLI: scene --debug-pixel prints the pixel's ray tree", "[cli][scene]") {
-    // Pixel (40, 30) of the 64x48 view of the spheres scene: through the glass ball, which refracts and reflects.
+namespace {
+
+// The names in a folder, sorted.
+std::vector<std::string> listing(const fs::path& dir) {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+// Three numbers written "a, b, c".
+glm::dvec3 triple(const std::string& text) {
+    glm::dvec3 v{0.0};
+    REQUIRE(std::sscanf(text.c_str(), "%lf, %lf, %lf", &v.x, &v.y, &v.z) == 3);
+    return v;
+}
+
+// One line of a printed ray tree.
+struct TreeLine {
+    int depth = 0;
+    std::string kind, hit, valueName;
+    glm::dvec3 origin{0.0}, dir{0.0}, weight{0.0}, value{0.0};
+    double t = 0.0;  // 0 when the line gives no distance
+};
+
+std::vector<TreeLine> parseTree(const std::string& out) {
+    static const std::regex line(R"(( *)(\w+) from \(([^)]*)\) dir \(([^)]*)\) -> (.+?)(?: at (\S+) m)?  )"
+                                 R"(weight \(([^)]*)\) (contribution|transmittance) \(([^)]*)\))");
+    std::vector<TreeLine> tree;
+    std::istringstream in(out);
+    for (std::string text; std::getline(in, text);) {
+        std::smatch m;
+        if (!std::regex_match(text, m, line)) continue;
+        TreeLine l;
+        l.depth = int(m[1].length()) / 2;
+        l.kind = m[2];
+        l.origin = triple(m[3]);
+        l.dir = triple(m[4]);
+        l.hit = m[5];
+        if (m[6].matched) l.t = std::stod(m[6]);
+        l.weight = triple(m[7]);
+        l.valueName = m[8];
+        l.value = triple(m[9]);
+        tree.push_back(l);
+    }
+    return tree;
+}
+
+void checkNear(const glm::dvec3& got, const glm::dvec3& want, double margin) {
+    INFO("got (" << got.x << ", " << got.y << ", " << got.z << "), want (" << want.x << ", " << want.y << ", "
+                 << want.z << ")");
+    CHECK(glm::length(got - want) < margin);
+}
+
+}  // namespace
+
+TEST_CASE("CLI: scene --debug-pixel prints the pixel's ray tree and writes no image", "[cli][scene]") {
+    // A mirror-finished ball straight ahead of a pinhole camera, lit by a sun in the south, with no sky: the
+    // tree of pixel (3, 2) of a 5x5 picture is worked out here from the camera, the sphere and the sun alone.
+    TempDir dir("scene-debug");
+    const std::string scene = dir.file("ball.toml");
+    std::ofstream(scene) << "[camera]\neye = [0, 0, 0]\nlook_at = [0, 10, 0]\nfov = 40\n"
+                            "[[material]]\nname = \"shiny\"\ncolor = [0.5, 0.5, 0.5]\nmirror = 0.5\n"
+                            "[[object]]\ntype = \"sphere\"\nname = \"ball\"\ncenter = [0, 10, 0]\nradius = 2\n"
+                            "material = \"shiny\"\n"
+                            "[[light]]\ntype = \"sun\"\nazimuth = 180\nelevation = 30\n"
+                            "[sky]\nmodel = \"none\"\n"
+                            "[render]\nwidth = 5\nheight = 5\noutput = \"ball.png\"\n";
+    const auto r = runTerracast("scene '" + scene + "' --debug-pixel 3,2");
+    INFO(r.out << r.err);
+    REQUIRE(r.exitCode == 0);
+    // The file's own output is not rendered: a debug run leaves nothing behind.
+    CHECK(listing(dir.path()) == std::vector<std::string>{"ball.toml"});
+    CHECK(r.out.rfind("ray tree of pixel 3,2 (3 rays)\n", 0) == 0);
+
+    // Pixel (3, 2): 0.4 of the half-width right of the centre, on the horizon.
+    const double tanHalf = std::tan(20.0 * M_PI / 180.0);
+    const glm::dvec3 dir0 = glm::normalize(glm::dvec3(0.4 * tanHalf, 1.0, 0.0));
+    const glm::dvec3 centre{0, 10, 0};
+    const double along = glm::dot(centre, dir0), off = glm::length(centre - along * dir0);
+    const double t = along - std::sqrt(4.0 - off * off);
+    const glm::dvec3 p = t * dir0, n = (p - centre) / 2.0;
+    const glm::dvec3 sun{0.0, -std::cos(M_PI / 6.0), std::sin(M_PI / 6.0)};
+    const double shade = 0.5 * glm::dot(n, sun);  // albedo x cos; the reflection sees only black sky
+    REQUIRE(shade > 0.1);
+
+    const auto tree = parseTree(r.out);
+    REQUIRE(tree.size() == 3);
+    CHECK(tree[0].kind == "primary");
+    CHECK(tree[0].depth == 0);
+    checkNear(tree[0].origin, glm::dvec3(0.0), 1e-3);
+    checkNear(tree[0].dir, dir0, 1e-3);
+    CHECK(tree[0].hit == "ball");
+    CHECK(tree[0].t == Approx(t).margin(1e-3));
+    checkNear(tree[0].weight, glm::dvec3(1.0), 1e-3);
+    CHECK(tree[0].valueName == "contribution");
+    checkNear(tree[0].value, glm::dvec3(shade), 1e-3);
+
+    CHECK(tree[1].kind == "shadow");
+    CHECK(tree[1].depth == 1);
+    checkNear(tree[1].origin, p, 1e-3);
+    checkNear(tree[1].dir, sun, 1e-3);
+    CHECK(tree[1].hit == "light");
+    CHECK(tree[1].valueName == "transmittance");
+    checkNear(tree[1].value, glm::dvec3(1.0), 1e-3);
+
+    CHECK(tree[2].kind == "reflection");
+    CHECK(tree[2].depth == 1);
+    checkNear(tree[2].origin, p, 1e-3);
+    checkNear(tree[2].dir, dir0 - 2.0 * glm::dot(dir0, n) * n, 1e-3);
+    CHECK(tree[2].hit == "sky");
+    checkNear(tree[2].weight, glm::dvec3(0.5), 1e-3);
+    checkNear(tree[2].value, glm::dvec3(0.0), 1e-6);
+
+    const size_t value = r.out.find("pixel value (");
+    REQUIRE(value != std::string::npos);
+    checkNear(triple(r.out.substr(value + 13)), glm::dvec3(shade), 1e-3);
+
+    // With -o the image is rendered too, where -o says.
+    const std::string out = dir.file("debug.png");
+    const auto withImage = runTerracast("scene '" + scene + "' --debug-pixel 3,2 -o '" + out + "'");
+    REQUIRE(withImage.exitCode == 0);
+    CHECK(readImage(out).width == 5);
+    CHECK_FALSE(fs::exists(dir.path() / "ball.png"));
+}
+
+TEST_CASE("CLI: scene --debug-pixel on a sample scene traces glass and leaves the samples folder alone", "[cli][scene]") {
+    // Pixel (24, 22) of the 64x48 view of the absorption scene looks through the middle green-glass ball, which
+    // refracts and reflects. The scene names its own output beside it; a debug run must not write it.
+    const auto before = listing(kScenes);
     const auto r = runTerracast("scene '" + kScenes + "absorption.toml' --size 64x48 --debug-pixel 24,22");
     INFO(r.out << r.err);
     REQUIRE(r.exitCode == 0);
+    CHECK(listing(kScenes) == before);
+    CHECK_FALSE(fs::exists(kScenes + "absorption.png"));
     CHECK(r.out.rfind("ray tree of pixel 24,22", 0) == 0);
-    CHECK(r.out.find("primary from") != std::string::npos);
-    CHECK(r.out.find("refraction from") != std::string::npos);
+    const auto tree = parseTree(r.out);
+    REQUIRE(tree.size() >= 3);
+    CHECK(tree[0].kind == "primary");
+    checkNear(tree[0].origin, glm::dvec3(0.0, -8.0, 3.0), 1e-3);
+    CHECK(tree[0].hit == "sphere 3");
+    CHECK(tree[1].kind == "refraction");
+    CHECK(tree[1].hit == "sphere 3");  // and out through its far side
     CHECK(r.out.find("pixel value (") != std::string::npos);
     const auto outside = runTerracast("scene '" + kScenes + "absorption.toml' --size 64x48 --debug-pixel 64,2");
     CHECK(outside.exitCode == 2);
