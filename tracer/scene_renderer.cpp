@@ -228,7 +228,9 @@ private:
                 const double cosI = std::abs(glm::dot(ray.dir, hit.normal));
                 for (int c = 0; c < 3; ++c) {
                     const double ior = m.ior[c];
-                    t[c] *= float(1.0 - fresnelSchlick(cosI, entering ? 1.0 : ior, entering ? ior : 1.0));
+                    const double etaFrom = entering ? 1.0 : ior, etaTo = entering ? ior : 1.0;
+                    t[c] *= float(1.0 - (m.fresnel == FresnelModel::Exact ? fresnelDielectric(cosI, etaFrom, etaTo)
+                                                                           : fresnelSchlick(cosI, etaFrom, etaTo)));
                 }
                 sigma = entering ? m.absorptionPerM : glm::vec3(0.0f);
                 left -= hit.t;

@@ -1,5 +1,6 @@
 // The Whitted scene tracer against analytic answers: sphere silhouettes and distances, Fresnel, total internal
-// reflection, Beer-Lambert through a slab, a mirror image, and the rays each scene pays for.
+// reflection, Beer-Lambert through a slab, a mirror image, the rays each scene pays for, and shadows through
+// glass under either Fresnel model.
 #include "tracer/optics.h"
 #include "tracer/scene_renderer.h"
 
@@ -382,4 +383,73 @@ TEST_CASE("A thin lens keeps the focus plane sharp and blurs nearer points over 
         widest = std::max(widest, 2.0 * std::hypot(p.x, p.z));
     }
     CHECK(widest == Approx(0.1).epsilon(1e-3));
+}
+
+namespace {
+
+// The Fresnel equations for unpolarised light, written out here as the reference: the mean of the s- and
+// p-polarised reflectances, 1 under total internal reflection.
+double fresnelReference(double cosI, double n1, double n2) {
+    const double sinT = n1 / n2 * std::sqrt(1.0 - cosI * cosI);
+    if (sinT >= 1.0) return 1.0;
+    const double cosT = std::sqrt(1.0 - sinT * sinT);
+    const double rs = (n1 * cosI - n2 * cosT) / (n1 * cosI + n2 * cosT);
+    const double rp = (n2 * cosI - n1 * cosT) / (n2 * cosI + n1 * cosT);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+// Schlick's approximation as published: R0 + (1 - R0)(1 - cos)^5, with the cosine on the less dense side.
+double schlickReference(double cosI, double n1, double n2) {
+    double c = cosI;
+    if (n1 > n2) c = std::sqrt(1.0 - (n1 / n2) * (n1 / n2) * (1.0 - cosI * cosI));
+    const double r0 = (n1 - n2) * (n1 - n2) / ((n1 + n2) * (n1 + n2));
+    return r0 + (1.0 - r0) * std::pow(1.0 - c, 5.0);
+}
+
+}  // namespace
+
+TEST_CASE("Shadow rays through glass use the material's Fresnel model", "[scene]") {
+    // A white floor under a 0.5 m glass slab (n = 1.5) at z = 2; the sun at elevation 60, so its shadow ray
+    // crosses both faces at 30 degrees from the normal without bending. The floor point under the camera gets
+    // the sun's irradiance times cos 30 times the transmission (1 - F_in)(1 - F_out) of the two faces.
+    SceneDescription d;
+    MaterialDescription white;
+    white.name = "white";
+    white.colour = glm::vec3(1.0f);
+    d.materials.push_back(white);
+    MaterialDescription glass;
+    glass.name = "glass";
+    glass.kd = 0.0f;
+    glass.dielectric = true;
+    glass.ior = glm::vec3(1.5f);
+    d.materials.push_back(glass);
+    d.objects.push_back(plane({0, 0, 0}, {0, 0, 1}, "white"));
+    d.objects.push_back(box({-100, -100, 2.0}, {100, 100, 2.5}, "glass"));
+    d.sky.kind = SkyKind::None;
+    LightDescription sun;
+    sun.azimuthDeg = 0.0;
+    sun.elevationDeg = 60.0;
+    d.lights.push_back(sun);
+    d.camera = lookingAt({0, 0, 1}, {0, 0, 0}, 1.0);
+    d.camera.up = {0, 1, 0};
+    d.render.width = d.render.height = 1;
+    const double cosI = std::cos(M_PI / 6.0);
+    for (const FresnelModel model : {FresnelModel::Schlick, FresnelModel::Exact}) {
+        d.materials[1].fresnel = model;
+        const bool exact = model == FresnelModel::Exact;
+        INFO((exact ? "exact" : "Schlick"));
+        const auto f = exact ? fresnelReference : schlickReference;
+        const double through = (1.0 - f(cosI, 1.0, 1.5)) * (1.0 - f(cosI, 1.5, 1.0));
+        const double other = exact ? (1.0 - schlickReference(cosI, 1.0, 1.5)) * (1.0 - schlickReference(cosI, 1.5, 1.0))
+                                   : (1.0 - fresnelReference(cosI, 1.0, 1.5)) * (1.0 - fresnelReference(cosI, 1.5, 1.0));
+        REQUIRE(std::abs(through - other) > 0.005);  // the two models are told apart below
+        Scene scene(d, {});
+        const SceneCamera cam = makeSceneCamera(scene, d.camera, 1.0);
+        std::vector<RayRecord> tree;
+        const glm::vec3 v = tracePixel(scene, cam, settingsFor(d), 0, 0, &tree);
+        for (int c = 0; c < 3; ++c) CHECK(v[c] == Approx(through * cosI).epsilon(1e-5));
+        REQUIRE(countKind(tree, RayKind::Shadow) == 1);
+        for (const RayRecord& r : tree)
+            if (r.kind == RayKind::Shadow) CHECK(r.contribution.r == Approx(through).epsilon(1e-5));
+    }
 }
