@@ -1,6 +1,6 @@
 // The Whitted scene tracer against analytic answers: sphere silhouettes and distances, Fresnel, total internal
-// reflection, Beer-Lambert through a slab, a mirror image, the rays each scene pays for, and shadows through
-// glass under either Fresnel model.
+// reflection, Beer-Lambert through a slab, a mirror image, the rays each scene pays for, shadows through glass
+// under either Fresnel model, and dispersion by Snell's law per colour channel.
 #include "tracer/optics.h"
 #include "tracer/scene_renderer.h"
 
@@ -452,4 +452,68 @@ TEST_CASE("Shadow rays through glass use the material's Fresnel model", "[scene]
         for (const RayRecord& r : tree)
             if (r.kind == RayKind::Shadow) CHECK(r.contribution.r == Approx(through).epsilon(1e-5));
     }
+}
+
+TEST_CASE("A dispersive dielectric refracts each colour channel by its own index, as Snell's law says", "[scene]") {
+    // A camera ray meets the flat top of a glass block at 40 degrees from the normal; the block's indices are
+    // 1.50, 1.60 and 1.70 for red, green and blue. Each channel's refracted ray makes the angle asin(sin 40 / n)
+    // with the inward normal, in the plane of incidence, and carries only its own channel, weighted by Schlick's
+    // transmission.
+    SceneDescription d;
+    MaterialDescription flint;
+    flint.name = "flint";
+    flint.kd = 0.0f;
+    flint.dielectric = true;
+    flint.dispersive = true;
+    flint.ior = {1.5f, 1.6f, 1.7f};
+    d.materials.push_back(flint);
+    d.objects.push_back(box({-100, -100, -1}, {100, 100, 0}, "flint"));
+    d.sky.kind = SkyKind::Flat;
+    d.render.width = d.render.height = 1;
+    d.render.maxDepth = 1;
+    const double theta = 40.0 * M_PI / 180.0;
+    const glm::dvec3 eye{0, 0, 1};
+    d.camera = lookingAt(eye, eye + glm::dvec3(std::sin(theta), 0.0, -std::cos(theta)), 1.0);
+    Scene scene(d, {});
+    const SceneCamera cam = makeSceneCamera(scene, d.camera, 1.0);
+    std::vector<RayRecord> tree;
+    tracePixel(scene, cam, settingsFor(d), 0, 0, &tree);
+    REQUIRE(countKind(tree, RayKind::Refraction) == 3);
+    int seen[3] = {0, 0, 0};
+    double angles[3] = {0, 0, 0};
+    for (const RayRecord& r : tree) {
+        if (r.kind != RayKind::Refraction) continue;
+        // The one channel this ray carries.
+        int channel = -1;
+        for (int c = 0; c < 3; ++c)
+            if (r.weight[c] > 0.0f) {
+                CHECK(channel == -1);
+                channel = c;
+            }
+        REQUIRE(channel >= 0);
+        ++seen[channel];
+        const double n = flint.ior[channel];
+        const double sinT = std::sin(theta) / n;
+        const glm::dvec3 expected{sinT, 0.0, -std::sqrt(1.0 - sinT * sinT)};
+        INFO("channel " << channel);
+        CHECK(glm::length(r.dir - expected) < 1e-9);
+        CHECK(r.weight[channel] == Approx(1.0 - schlickReference(std::cos(theta), 1.0, n)).epsilon(1e-5));
+        angles[channel] = std::atan2(r.dir.x, -r.dir.z);
+    }
+    CHECK(seen[0] == 1);
+    CHECK(seen[1] == 1);
+    CHECK(seen[2] == 1);
+    // Blue bends most: the spread between red and blue is the difference of the two Snell angles.
+    CHECK(angles[0] > angles[1]);
+    CHECK(angles[1] > angles[2]);
+    CHECK(angles[0] - angles[2] ==
+          Approx(std::asin(std::sin(theta) / double(flint.ior[0])) - std::asin(std::sin(theta) / double(flint.ior[2])))
+              .epsilon(1e-9));
+    // The same block with one index sends a single refraction ray.
+    d.materials[0].dispersive = false;
+    d.materials[0].ior = glm::vec3(1.6f);
+    Scene plain(d, {});
+    tree.clear();
+    tracePixel(plain, makeSceneCamera(plain, d.camera, 1.0), settingsFor(d), 0, 0, &tree);
+    CHECK(countKind(tree, RayKind::Refraction) == 1);
 }
