@@ -1,12 +1,16 @@
 // Distribution ray tracing through the scene renderer, against geometry: the penumbra of a sphere under a
-// spherical light, the coverage of a sphere moving across the shutter, the blur of a point off the focus
-// plane, the spread of glossy reflections, and how fast soft-shadow noise falls with the sample count.
+// spherical light and of a wall or terrain step under the sun's disc, the coverage of a sphere moving across
+// the shutter, the blur of a point off the focus plane, the spread of glossy reflections, and how fast
+// soft-shadow noise falls with the sample count.
 #include "tracer/convergence.h"
 #include "tracer/scene_renderer.h"
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
+#include <vector>
 
 using namespace terracast;
 
@@ -280,4 +284,110 @@ TEST_CASE("Soft-shadow noise falls as 1/sqrt(spp) with random samples and faster
     CHECK(r.exponent == Approx(-0.5).margin(0.1));
     CHECK(s.exponent < r.exponent - 0.15);
     CHECK(stratified.back() < random.back());
+}
+
+namespace {
+
+// The share of a disc of angular radius a that lies beyond a straight edge crossing it at angular distance
+// `offset` from its centre (positive when the centre is on the visible side): a circular segment.
+double discShareBeyond(double offset, double a) {
+    const double u = std::clamp(-offset / a, -1.0, 1.0);
+    return (std::acos(u) - u * std::sqrt(1.0 - u * u)) / M_PI;
+}
+
+}  // namespace
+
+TEST_CASE("The sun's disc casts a penumbra of the similar-triangles width behind an edge, a point sun none",
+          "[distribution]") {
+    // A wall (a box, or the step of a plateau in a height grid) whose top edge runs along y at x = 0, z = H; the
+    // sun in the west at elevation e. Its shadow on the floor (z = 0) ends at x = H / tan(e). A floor point x
+    // sees the edge at elevation atan(H / x), so the sun's disc of angular radius a is partly hidden while that
+    // elevation is within a of e: the penumbra runs from H / tan(e + a) to H / tan(e - a). By similar triangles
+    // the edge lies D = H / sin(e) from its shadow along the sun's rays; across them the penumbra spans
+    // 2 D tan(a), stretched on the floor by 1 / sin(e).
+    const double H = 5.0, e = 45.0 * M_PI / 180.0;
+    const double x0 = 3.5, x1 = 6.5;
+    const int width = 300;
+    const double pixel = (x1 - x0) / width;
+    for (const bool terrain : {false, true}) {
+        for (const double aDeg : {2.0, 0.0}) {
+            INFO((terrain ? "plateau of a height grid" : "box") << ", sun radius " << aDeg << " degrees");
+            const double a = aDeg * M_PI / 180.0;
+            SceneDescription d;
+            SceneAssets assets;
+            d.materials.push_back(matte("white", 1.0f));
+            if (terrain) {
+                // 0.5 m cells from x = -3 to 8 and y = -10 to 10; heights H up to x = 0, then 0.
+                const int w = 23, h = 41;
+                std::vector<float> heights(size_t(w) * h);
+                for (int j = 0; j < h; ++j)
+                    for (int i = 0; i < w; ++i) heights[size_t(j) * w + size_t(i)] = -3.0 + 0.5 * i <= 0.0 ? float(H) : 0.0f;
+                assets.grids.push_back(std::make_shared<const HeightGrid>(w, h, 0.5, 0.5, heights));
+                ObjectDescription plateau;
+                plateau.kind = ObjectKind::HeightField;
+                plateau.offsetM = {-3.0, -10.0, 0.0};
+                d.objects.push_back(plateau);
+            } else {
+                ObjectDescription floor;
+                floor.kind = ObjectKind::Plane;
+                floor.material = "white";
+                d.objects.push_back(floor);
+                ObjectDescription wall;
+                wall.kind = ObjectKind::Box;
+                wall.boxMin = {-3.0, -50.0, 0.0};
+                wall.boxMax = {0.0, 50.0, H};
+                wall.material = "white";
+                d.objects.push_back(wall);
+            }
+            d.sky.kind = SkyKind::None;
+            LightDescription sun;
+            sun.azimuthDeg = 270.0;
+            sun.elevationDeg = 45.0;
+            sun.angularRadiusDeg = aDeg;
+            d.lights.push_back(sun);
+            d.camera = stripCamera(x0, x1, 1.0);
+            d.camera.orthoHeightM = pixel;
+            Scene scene(d, assets);
+            SceneRenderSettings s;
+            s.width = width;
+            s.height = 1;
+            s.samples = 256;
+            s.threads = 2;
+            const Film film = renderScene(scene, makeSceneCamera(scene, d.camera, double(width)), s);
+            // Fully lit brightness, from the pixels beyond the widest penumbra.
+            double lit = 0.0;
+            int litPixels = 0;
+            for (int i = 0; i < width; ++i)
+                if (x0 + (i + 0.5) * pixel > 6.0) lit += film.get(i, 0).r, ++litPixels;
+            lit /= litPixels;
+            REQUIRE(lit > 0.1);
+
+            int lastDark = -1, firstLit = width;
+            for (int i = 0; i < width; ++i) {
+                const double x = x0 + (i + 0.5) * pixel;
+                const double v = film.get(i, 0).r / lit;
+                if (v < 1e-3) lastDark = i;
+                if (v > 1.0 - 1e-3 && firstLit == width) firstLit = i;
+                if (a > 0.0) {
+                    INFO("x = " << x);
+                    CHECK(v == Approx(discShareBeyond(e - std::atan(H / x), a)).margin(0.03));
+                }
+            }
+            REQUIRE(lastDark >= 0);
+            REQUIRE(firstLit < width);
+            const double measured = (firstLit - lastDark - 1) * pixel;  // pixels neither dark nor fully lit
+            if (a > 0.0) {
+                const double D = H / std::sin(e);
+                const double predicted = 2.0 * D * std::tan(a) / std::sin(e);
+                INFO("penumbra " << measured << " m, predicted " << predicted << " m");
+                CHECK(predicted == Approx(H / std::tan(e - a) - H / std::tan(e + a)).epsilon(0.01));
+                CHECK(measured == Approx(predicted).margin(4.0 * pixel));
+                CHECK(x0 + (lastDark + 0.5) * pixel == Approx(H / std::tan(e + a)).margin(4.0 * pixel));
+            } else {
+                // A hard edge: at most the one pixel the edge crosses is partly lit, and it lies at H / tan(e).
+                CHECK(firstLit - lastDark - 1 <= 1);
+                CHECK(x0 + (lastDark + 1) * pixel == Approx(H / std::tan(e)).margin(pixel));
+            }
+        }
+    }
 }
