@@ -1,7 +1,8 @@
 // Distribution ray tracing through the scene renderer, against geometry: the penumbra of a sphere under a
 // spherical light and of a wall or terrain step under the sun's disc, the coverage of a sphere moving across
-// the shutter, the blur of a point off the focus plane, the spread of glossy reflections, and how fast
-// soft-shadow noise falls with the sample count.
+// the shutter and the smear of a moving camera, the blur of a point off the focus plane, the spread of glossy
+// reflections, how fast soft-shadow noise falls with the sample count, pixel filters across an edge, and the
+// sample counts of adaptive sampling.
 #include "tracer/convergence.h"
 #include "tracer/scene_renderer.h"
 
@@ -390,4 +391,174 @@ TEST_CASE("The sun's disc casts a penumbra of the similar-triangles width behind
             }
         }
     }
+}
+
+TEST_CASE("A moving camera smears a static sphere over the span it travels", "[distribution]") {
+    // A black ball of radius 1 at the origin under a white sky; an orthographic camera moving east at 4 m/s over
+    // a one-second shutter. The ray that starts over x sweeps x + 4 t, so the ball darkens the film from
+    // x = -1 - 4 to x = 1, a span of 2 + 4 m, and each point for the time its ray spends within 1 m of the centre.
+    const double v = 4.0, r = 1.0;
+    SceneDescription d;
+    d.materials.push_back(matte("black", 0.0f));
+    d.objects.push_back(sphereAt({0, 0, 0}, r, "black"));
+    d.sky.kind = SkyKind::Flat;
+    d.sky.colour = glm::vec3(1.0f);
+    d.camera = stripCamera(-8.0, 8.0, 10.0);
+    d.camera.shutterOpen = 0.0;
+    d.camera.shutterClose = 1.0;
+    d.camera.velocity = {v, 0.0, 0.0};
+    const int width = 320;
+    const double pixel = 16.0 / width;
+    d.camera.orthoHeightM = pixel;
+    const Film film = render(d, width, 1, 256, SamplePattern::Stratified);
+    auto coverage = [&](double x) {
+        const double t0 = std::clamp((-r - x) / v, 0.0, 1.0), t1 = std::clamp((r - x) / v, 0.0, 1.0);
+        return t1 - t0;
+    };
+    int dark = 0;
+    for (int i = 0; i < width; ++i) {
+        const double x = -8.0 + (i + 0.5) * pixel;
+        const double covered = 1.0 - double(film.get(i, 0).r);
+        dark += covered > 1e-3;
+        if (std::abs(x - 1.0) < 0.15 || std::abs(x + 1.0) < 0.15 || std::abs(x + 3.0) < 0.15 || std::abs(x + 5.0) < 0.15)
+            continue;  // kinks of the coverage curve
+        INFO("x = " << x);
+        CHECK(covered == Approx(coverage(x)).margin(0.01));
+    }
+    CHECK(dark == Approx((2.0 * r + v) / pixel).margin(2.0));
+}
+
+TEST_CASE("Tent and Gaussian filters spread a straight edge over the pixels their footprints reach",
+          "[distribution]") {
+    // A black half-plane (x < 10.1 m) under a white sky, seen from above with 1 m pixels. A pixel whose centre
+    // is at c averages its samples weighted by the filter, so it shows the share of the filter's 1D profile
+    // that lies beyond the edge: the integral of f1 from (10.1 - c) to the radius.
+    const double edge = 10.1, tolerance = 0.004;
+    SceneDescription d;
+    d.materials.push_back(matte("black", 0.0f));
+    ObjectDescription half;
+    half.kind = ObjectKind::Box;
+    half.boxMin = {-100.0, -100.0, -1.0};
+    half.boxMax = {edge, 100.0, 0.0};
+    half.material = "black";
+    d.objects.push_back(half);
+    d.sky.kind = SkyKind::Flat;
+    d.sky.colour = glm::vec3(1.0f);
+    const int width = 24;
+    d.camera = stripCamera(0.0, double(width), 10.0);
+    d.camera.orthoHeightM = 1.0;
+    Scene scene(d, {});
+    const SceneCamera camera = makeSceneCamera(scene, d.camera, double(width));
+
+    // Each filter's profile, written out on its own: box 1 / (2 r); tent (r - |x|) / r^2; Gaussian
+    // exp(-alpha x^2) - exp(-alpha r^2), normalised by Simpson's rule.
+    auto profile = [](FilterKind kind, double r, double alpha, double x) {
+        if (std::abs(x) > r) return 0.0;
+        switch (kind) {
+        case FilterKind::Box: return 1.0;
+        case FilterKind::Tent: return r - std::abs(x);
+        case FilterKind::Gaussian: return std::exp(-alpha * x * x) - std::exp(-alpha * r * r);
+        }
+        return 0.0;
+    };
+    auto integral = [&](FilterKind kind, double r, double alpha, double lo, double hi) {
+        lo = std::clamp(lo, -r, r);
+        hi = std::clamp(hi, -r, r);
+        if (hi <= lo) return 0.0;
+        const int n = 2000;  // even
+        const double h = (hi - lo) / n;
+        double sum = profile(kind, r, alpha, lo) + profile(kind, r, alpha, hi);
+        for (int k = 1; k < n; ++k) sum += (k % 2 ? 4.0 : 2.0) * profile(kind, r, alpha, lo + k * h);
+        return sum * h / 3.0;
+    };
+    struct Case {
+        FilterKind kind;
+        double radius;
+    };
+    std::vector<std::vector<double>> profiles;
+    for (const Case c : {Case{FilterKind::Box, 0.5}, Case{FilterKind::Tent, 1.0}, Case{FilterKind::Gaussian, 1.0}}) {
+        INFO(filterKindName(c.kind));
+        SceneRenderSettings s;
+        s.width = width;
+        s.height = 1;
+        s.samples = 4096;
+        s.threads = 2;
+        s.filter.kind = c.kind;
+        s.filter.radius = c.radius;
+        s.filter.alpha = 2.0;
+        REQUIRE_FALSE(s.filter.problem());
+        const Film film = renderScene(scene, camera, s);
+        const double total = integral(c.kind, c.radius, 2.0, -c.radius, c.radius);
+        int partial = 0;
+        std::vector<double> expected;
+        for (int i = 0; i < width; ++i) {
+            const double centre = i + 0.5;
+            expected.push_back(integral(c.kind, c.radius, 2.0, edge - centre, c.radius) / total);
+            INFO("pixel " << i);
+            CHECK(double(film.get(i, 0).r) == Approx(expected.back()).margin(tolerance));
+            partial += expected.back() > 1e-9 && expected.back() < 1.0 - 1e-9;
+        }
+        // The box reaches only the pixel the edge crosses; the wider filters reach its neighbours.
+        CHECK(partial == (c.kind == FilterKind::Box ? 1 : 2));
+        profiles.push_back(expected);
+    }
+    // The profiles differ by well over twice the tolerance, so the checks above tell the filters apart.
+    for (size_t a = 0; a < profiles.size(); ++a)
+        for (size_t b = a + 1; b < profiles.size(); ++b) {
+            double most = 0.0;
+            for (int i = 0; i < width; ++i) most = std::max(most, std::abs(profiles[a][size_t(i)] - profiles[b][size_t(i)]));
+            CHECK(most > 2.5 * tolerance);
+        }
+}
+
+TEST_CASE("Adaptive sampling stops flat pixels at the minimum and spends the maximum on edges", "[distribution]") {
+    // A black box covers x < 10.5 of a 16 x 8 m view with 1 m pixels; the sky is white. Pixels wholly on one
+    // side see one value, so their standard error is 0 as soon as the rule allows stopping; pixels of column
+    // 10 are half black, their standard error near 0.5 / sqrt(n) stays far above the threshold up to the cap.
+    SceneDescription d;
+    d.materials.push_back(matte("black", 0.0f));
+    ObjectDescription half;
+    half.kind = ObjectKind::Box;
+    half.boxMin = {-100.0, -100.0, -1.0};
+    half.boxMax = {10.5, 100.0, 0.0};
+    half.material = "black";
+    d.objects.push_back(half);
+    d.sky.kind = SkyKind::Flat;
+    d.sky.colour = glm::vec3(1.0f);
+    d.camera.kind = CameraKind::Orthographic;
+    d.camera.eye = glm::dvec3(8.0, 4.0, 10.0);
+    d.camera.lookAt = glm::dvec3(8.0, 4.0, 0.0);
+    d.camera.up = {0, 1, 0};
+    d.camera.orthoHeightM = 8.0;
+    Scene scene(d, {});
+    const SceneCamera camera = makeSceneCamera(scene, d.camera, 2.0);
+    SceneRenderSettings s;
+    s.width = 16;
+    s.height = 8;
+    s.threads = 2;
+    s.adaptive = true;
+    s.rule.minSamples = 16;
+    s.rule.maxSamples = 64;
+    s.rule.absoluteError = 0.002;
+    s.rule.relativeError = 0.01;
+    SceneRayStats stats;
+    const Film film = renderScene(scene, camera, s, &stats);
+    CHECK(stats.samples == 8 * (15 * 16 + 64));
+    CHECK(stats.primary == stats.samples);
+    for (int y = 0; y < 8; ++y) {
+        INFO("row " << y);
+        for (int x = 0; x < 16; ++x) {
+            SceneRayStats one;
+            tracePixel(scene, camera, s, x, y, nullptr, &one);
+            CHECK(one.samples == (x == 10 ? 64 : 16));
+        }
+        CHECK(film.get(9, y).r == 0.0f);
+        CHECK(film.get(11, y).r == 1.0f);
+        CHECK(film.get(10, y).r == Approx(0.5f).margin(0.1));
+    }
+    // Without adaptivity every pixel takes the same count.
+    s.adaptive = false;
+    s.samples = 64;
+    renderScene(scene, camera, s, &stats);
+    CHECK(stats.samples == 16 * 8 * 64);
 }
