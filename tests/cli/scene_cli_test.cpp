@@ -1,6 +1,7 @@
 // `terracast scene` end to end through the real executable: a sample scene renders, the ray tree of one pixel
-// prints (and nothing is written without -o), scene-file errors cite file:line:column with exit 2, and the
-// picture does not depend on threads.
+// prints (and nothing is written without -o), scene-file errors cite file:line:column with exit 2, the picture
+// does not depend on threads, --focus finds the distance to what a pixel sees, and --adaptive reports its
+// samples.
 #include "support/run_command.h"
 #include "support/temp_dir.h"
 #include "loaders/image_io.h"
@@ -14,6 +15,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <regex>
 #include <sstream>
 #include <vector>
@@ -216,5 +218,79 @@ TEST_CASE("CLI: a scene renders byte-identical PNGs with 1, 2 and 8 threads", "[
         const std::string bytes = slurp(out);
         if (first.empty()) first = bytes;
         CHECK(bytes == first);
+    }
+}
+
+TEST_CASE("CLI: scene --focus sets the focus distance to what the pixel sees", "[cli][scene]") {
+    // A thin lens 2 m above a ground plane, looking down the +y axis at a point 10 m ahead.
+    TempDir dir("scene-focus");
+    const std::string scene = dir.file("focus.toml");
+    std::ofstream(scene) << "[camera]\ntype = \"thin-lens\"\neye = [0, 0, 2]\nlook_at = [0, 10, 0]\nfov = 40\n"
+                            "aperture = 0.05\n"
+                            "[[object]]\ntype = \"plane\"\n"
+                            "[sky]\nmodel = \"flat\"\n";
+    const std::string out = dir.file("focus.png");
+    const int width = 64, height = 48, px = 10, py = 40;
+    const auto r = runTerracast("scene '" + scene + "' -o '" + out + "' --size 64x48 --threads 2 --focus 10,40");
+    INFO(r.err);
+    REQUIRE(r.exitCode == 0);
+    CHECK(readImage(out).width == width);
+
+    // The pixel centre's pinhole ray, with its component along the view axis scaled to 1, meets the plane z = 0
+    // after s of those units: s is the distance along the axis.
+    const glm::dvec3 eye{0, 0, 2};
+    const glm::dvec3 forward = glm::normalize(glm::dvec3(0, 10, 0) - eye);
+    const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(0, 0, 1)));
+    const glm::dvec3 up = glm::cross(right, forward);
+    const double tanV = std::tan(20.0 * M_PI / 180.0), aspect = double(width) / height;
+    const double sx = 2.0 * (px + 0.5) / width - 1.0, sy = 1.0 - 2.0 * (py + 0.5) / height;
+    const glm::dvec3 d = forward + sx * tanV * aspect * right + sy * tanV * up;
+    const double expected = -eye.z / d.z;
+    const std::string key = "terracast: focus distance ";
+    const size_t at = r.err.find(key);
+    REQUIRE(at != std::string::npos);
+    CHECK(std::stod(r.err.substr(at + key.size())) == Approx(expected).margin(0.006));
+    CHECK(r.err.find(" m (pixel 10,40)") != std::string::npos);
+    // Another pixel sees the ground farther away; a pixel in the sky has nothing to focus on.
+    const auto higher = runTerracast("scene '" + scene + "' -o '" + out + "' --size 64x48 --focus 10,30");
+    REQUIRE(higher.exitCode == 0);
+    CHECK(std::stod(higher.err.substr(higher.err.find(key) + key.size())) > expected + 1.0);
+    const auto sky = runTerracast("scene '" + scene + "' -o '" + dir.file("sky.png") + "' --size 64x48 --focus 10,2");
+    CHECK(sky.exitCode == 2);
+    CHECK(sky.err == "terracast: error: --focus: pixel 10,2 sees the sky; pick a pixel on an object\n");
+    CHECK_FALSE(fs::exists(dir.file("sky.png")));
+}
+
+TEST_CASE("CLI: scene --adaptive reports the samples it used", "[cli][scene]") {
+    // Seen from above, a black box covers x < 10.5 and a white sky the rest of a 16 x 8 m picture with 1 m
+    // pixels: the edge runs down the middle of column 10. Flat pixels have no variance and stop at the 16
+    // samples the rule needs at least; edge pixels, half black, never reach the error and take all 64.
+    TempDir dir("scene-adaptive");
+    const std::string scene = dir.file("edge.toml");
+    std::ofstream(scene) << "[camera]\ntype = \"orthographic\"\neye = [8, 4, 10]\nlook_at = [8, 4, 0]\nup = [0, 1, 0]\n"
+                            "height = 8\n"
+                            "[[material]]\nname = \"black\"\nkd = 0\n"
+                            "[[object]]\ntype = \"box\"\nmin = [-100, -100, -1]\nmax = [10.5, 100, 0]\n"
+                            "material = \"black\"\n"
+                            "[sky]\nmodel = \"flat\"\ncolor = [1, 1, 1]\n"
+                            "[render]\nwidth = 16\nheight = 8\n";
+    const std::string out = dir.file("edge.png");
+    const auto r = runTerracast("scene '" + scene + "' -o '" + out + "' --spp 64 --adaptive 0.002 --threads 2");
+    INFO(r.err);
+    REQUIRE(r.exitCode == 0);
+    const double average = (15.0 * 16.0 + 64.0) / 16.0;  // per row: 15 flat pixels and one edge pixel
+    std::ostringstream report;
+    report << std::fixed << std::setprecision(1) << "(16x8, " << average << " spp on average, adaptive up to 64)";
+    CHECK(r.err.find(report.str()) != std::string::npos);
+    // One primary ray per camera sample.
+    std::ostringstream primary;
+    primary << ": " << int(average * 16 * 8) << " primary";
+    CHECK(r.err.find(primary.str()) != std::string::npos);
+    const RgbImage image = readImage(out);
+    REQUIRE(image.width == 16);
+    for (int y = 0; y < 8; ++y) {
+        CHECK(image.at(9, y, 0) == 0.0f);
+        CHECK(image.at(11, y, 0) == Approx(1.0f).margin(1e-3));
+        CHECK(image.at(10, y, 0) == Approx(0.5f).margin(0.15));  // half covered
     }
 }
