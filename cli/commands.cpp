@@ -12,6 +12,7 @@
 #include "tracer/compare.h"
 #include "tracer/maps.h"
 #include "tracer/scene_renderer.h"
+#include "tracer/sun_position.h"
 #include "tracer/terrain_renderer.h"
 
 #include <fmt/core.h>
@@ -344,21 +345,50 @@ int runInfo(const InfoOptions& options) {
 namespace {
 
 // `render --view map`: the top-down shaded relief, as a GeoTIFF on the DEM's georeference or a PNG.
+// The sky model named by --sky.
+SkyKind parseSkyOption(const std::string& name) {
+    if (name == "physical") return SkyKind::Physical;
+    if (name == "gradient") return SkyKind::Gradient;
+    if (name == "flat") return SkyKind::Flat;
+    if (name == "none") return SkyKind::None;
+    throw InputError(fmt::format("--sky: expected physical, gradient, flat or none, found '{}'", name));
+}
+
+// With --sun-time, the sun's azimuth and (apparent) elevation at that instant over the DEM's centre.
+void applySunTime(const RenderOptions& o, const LoadedDem& dem, double& azimuthDeg, double& elevationDeg) {
+    if (o.sunTime.empty()) return;
+    std::string why;
+    const auto utc = utcFromIsoTime(o.sunTime, why);
+    if (!utc)
+        throw InputError(fmt::format("--sun-time: expected an ISO 8601 time such as 2026-06-21T19:30Z, found '{}' ({})",
+                                     o.sunTime, why));
+    double lon = 0.0, lat = 0.0;
+    gridCentreLonLat(dem.geo, dem.grid.width(), dem.grid.height(), o.dem.path + ": --sun-time", lon, lat);
+    const SolarPosition p = solarPosition(*parseCanonicalUtc(*utc), lat, lon);
+    azimuthDeg = p.azimuthDeg;
+    elevationDeg = p.apparentElevationDeg;
+    if (!o.quiet)
+        fmt::print(stderr, "terracast: sun at {} over {:.4f}, {:.4f} (lat, lon): azimuth {:.2f}, elevation {:.2f} degrees\n",
+                   *utc, lat, lon, azimuthDeg, elevationDeg);
+}
+
 int renderMap(const RenderOptions& o) {
     checkOutputPath(o.output, o.dem.path, {".tif", ".tiff", ".png"});
     checkViewValues(o.exaggeration, o.sunElevationDeg);
     if (!(o.scale > 0.0 && o.scale <= 16.0)) throw InputError(fmt::format("--scale: expected (0, 16], found {}", o.scale));
     if (!(o.hillshadeBlend >= 0.0 && o.hillshadeBlend <= 1.0))
         throw InputError(fmt::format("--hillshade-blend: expected 0..1, found {}", o.hillshadeBlend));
-    if (o.skySamples < 0 || o.skySamples > 4096)
+    if (o.skySamples < -1 || o.skySamples > 4096)
         throw InputError(fmt::format("--sky-samples: expected 0..4096, found {}", o.skySamples));
     LoadedDem dem = load(o.dem);
-    TerrainRenderSettings view = makeView(dem.grid, 16, 16, o.sunAzimuthDeg, o.sunElevationDeg, o.exaggeration, "", o.threads);
+    double sunAzimuthDeg = o.sunAzimuthDeg, sunElevationDeg = o.sunElevationDeg;
+    applySunTime(o, dem, sunAzimuthDeg, sunElevationDeg);
+    TerrainRenderSettings view = makeView(dem.grid, 16, 16, sunAzimuthDeg, sunElevationDeg, o.exaggeration, "", o.threads);
     MapViewSettings m;
     m.scale = o.scale;
     m.sun = view.sun;
     m.castShadows = o.castShadows;
-    m.skySamples = o.skySamples;
+    m.skySamples = o.skySamples < 0 ? 16 : o.skySamples;
     m.colourRamp = o.colourRamp;
     m.hillshadeBlend = o.hillshadeBlend;
     m.method = directMethod(o.method, "--view map");
@@ -400,10 +430,21 @@ int runRender(const RenderOptions& o) {
         if (o.mapView) return renderMap(o);
         checkOutputPath(o.output, o.dem.path);
         checkViewValues(o.exaggeration, o.sunElevationDeg);
+        if (o.skySamples < -1 || o.skySamples > 4096)
+            throw InputError(fmt::format("--sky-samples: expected 0..4096, found {}", o.skySamples));
+        if (!(o.haze >= 0.0 && o.haze <= 1000.0))
+            throw InputError(fmt::format("--haze: expected a number in 0..1000, found {}", o.haze));
+        const SkyKind sky = parseSkyOption(o.sky);
         LoadedDem dem = load(o.dem);
         HeightGrid& grid = dem.grid;
-        TerrainRenderSettings s = makeView(grid, o.width, o.height, o.sunAzimuthDeg, o.sunElevationDeg, o.exaggeration,
+        double sunAzimuthDeg = o.sunAzimuthDeg, sunElevationDeg = o.sunElevationDeg;
+        applySunTime(o, dem, sunAzimuthDeg, sunElevationDeg);
+        TerrainRenderSettings s = makeView(grid, o.width, o.height, sunAzimuthDeg, sunElevationDeg, o.exaggeration,
                                            o.camera, o.threads);
+        s.sky.kind = sky;
+        s.sky.haze = o.haze;
+        s.sky.samples = o.skySamples < 0 ? 4 : o.skySamples;
+        s.seed = o.seed;
         TerminalProgress progress(!o.quiet);
         s.progress = [&](double f, int64_t rays) { progress.update(f, rays); };
 
@@ -415,12 +456,13 @@ int runRender(const RenderOptions& o) {
         progress.finish();
         writeImage(o.output, RgbImage{film.width, film.height, std::move(film.rgb)});
         if (!o.quiet) {
-            const int64_t rays = stats.primaryRays + stats.shadowRays;
+            const int64_t rays = stats.primaryRays + stats.shadowRays + stats.skyVisibilityRays;
             fmt::print(stderr,
-                       "terracast: rendered {} ({}x{}, {}) in {:.2f} s: {} primary + {} shadow rays, {:.2f} Mrays/s, "
-                       "peak memory {}\n",
-                       o.output, o.width, o.height, surfaceMethodName(o.method), stats.seconds, stats.primaryRays,
-                       stats.shadowRays, stats.seconds > 0 ? double(rays) / stats.seconds * 1e-6 : 0.0,
+                       "terracast: rendered {} ({}x{}, {}, {} sky) in {:.2f} s: {} primary + {} shadow + {} sky-visibility "
+                       "rays, {:.2f} Mrays/s, peak memory {}\n",
+                       o.output, o.width, o.height, surfaceMethodName(o.method), o.sky, stats.seconds,
+                       stats.primaryRays, stats.shadowRays, stats.skyVisibilityRays,
+                       stats.seconds > 0 ? double(rays) / stats.seconds * 1e-6 : 0.0,
                        humanBytes(peakResidentBytes()));
         }
         return 0;
@@ -708,6 +750,8 @@ int runScene(const SceneCommandOptions& o) {
         const double limit = o.maxMemoryBytes > 0.0 ? o.maxMemoryBytes : defaultMemoryLimitBytes();
         const LoadedSceneAssets loaded = loadSceneAssets(d, limit);
         for (const auto& w : loaded.warnings) fmt::print(stderr, "terracast: warning: {}\n", w);
+        for (const auto& line : placeTimedSuns(d, loaded))
+            if (!o.quiet) fmt::print(stderr, "terracast: {}\n", line);
         double embreeBytes = 0.0;
         for (size_t k = 0, g = 0; k < d.objects.size(); ++k)
             if (d.objects[k].kind == ObjectKind::HeightField)
@@ -764,12 +808,12 @@ int runScene(const SceneCommandOptions& o) {
         if (!o.quiet)
             fmt::print(stderr,
                        "terracast: rendered {} ({}x{}, {} spp{}) in {:.2f} s: {} primary, {} shadow, {} reflection, {} "
-                       "refraction rays ({} reached the sky), {:.2f} Mrays/s, peak memory {}\n",
+                       "refraction, {} sky-visibility rays ({} reached the sky), {:.2f} Mrays/s, peak memory {}\n",
                        r.output, r.width, r.height,
                        s.adaptive ? fmt::format("{:.1f}", double(stats.samples) / (double(r.width) * r.height))
                                   : std::to_string(std::max(1, s.samples)),
                        s.adaptive ? fmt::format(" on average, adaptive up to {}", s.rule.maxSamples) : "", stats.seconds, stats.primary, stats.shadow,
-                       stats.reflection, stats.refraction, stats.skyRays,
+                       stats.reflection, stats.refraction, stats.skyVisibility, stats.skyRays,
                        stats.seconds > 0 ? double(stats.total()) / stats.seconds * 1e-6 : 0.0,
                        humanBytes(peakResidentBytes()));
         return 0;

@@ -45,7 +45,12 @@ struct RenderOptions {
     bool mapView = false;                      // top-down orthographic map on the DEM's grid (--view map)
     double scale = 1.0;                        // map view: output pixels per DEM cell along each axis
     bool castShadows = true;                   // map view: ray-traced cast shadows
-    int skySamples = 16;                       // map view: hemisphere rays per pixel for sky visibility
+    int skySamples = -1;                       // hemisphere rays per hit (perspective) or pixel (map) for sky
+                                               // visibility; -1 = default, 4 in perspective, 16 in the map view
+    std::string sky = "physical";              // perspective: physical, gradient, flat or none
+    double haze = 1.0;                         // physical sky: multiplies Mie (aerosol) scattering
+    std::string sunTime;                       // ISO 8601 instant: puts the sun where it stands then over the DEM
+    uint64_t seed = 0;                         // sky-visibility directions
     bool colourRamp = false;                   // map view: elevation colours instead of grey
     double hillshadeBlend = 0.0;               // map view: weight of a plain hillshade, 0..1
 };

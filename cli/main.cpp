@@ -127,7 +127,15 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--scale", render.scale, "Map view: output pixels per DEM cell (default 1)");
     renderCmd->add_flag("--no-shadows", noShadows, "Map view: no cast shadows");
     renderCmd->add_option("--sky-samples", render.skySamples,
-                          "Map view: hemisphere rays per pixel for sky visibility, 0 = off (default 16)");
+                          "Sky-visibility rays per hit (per pixel in the map view), 0 = off (default 4; map view 16)");
+    renderCmd->add_option("--sky", render.sky,
+                          "Sky: physical (Rayleigh and Mie scattering with aerial perspective; default), gradient, "
+                          "flat or none");
+    renderCmd->add_option("--haze", render.haze, "Physical sky: multiplies aerosol (Mie) scattering (default 1)");
+    renderCmd->add_option("--sun-time", render.sunTime,
+                          "Place the sun where it stands at this instant over the DEM's centre, e.g. "
+                          "2026-06-21T19:30Z (instead of --sun)");
+    renderCmd->add_option("--seed", render.seed, "Random seed for the sky-visibility directions (default 0)");
     renderCmd->add_option("--colour", colour, "Map view: grey (default) or ramp (by elevation)");
     renderCmd->add_option("--hillshade-blend", render.hillshadeBlend,
                           "Map view: weight of a plain hillshade without shadows or sky, 0..1 (default 0)");

@@ -9,6 +9,11 @@ namespace terracast {
 // or the transformation fails.
 void lonLatToSource(const GeoReference& geo, double lonDeg, double latDeg, double& x, double& y);
 
+// WGS84 longitude and latitude (degrees) of the centre of a grid of `width` x `height` vertices placed by `geo`.
+// Throws InputError naming `what` when the grid has no CRS or the transformation fails.
+void gridCentreLonLat(const GeoReference& geo, int64_t width, int64_t height, const std::string& what, double& lonDeg,
+                      double& latDeg);
+
 // Source-CRS coordinates to the grid's local metres (x east, y north, origin at the south-west sample).
 void sourceToLocal(const LoadedDem& dem, double x, double y, double& xM, double& yM);
 

@@ -1,6 +1,8 @@
 #include "loaders/scene_assets.h"
 
+#include "loaders/crs.h"
 #include "loaders/loader_support.h"
+#include "tracer/sun_position.h"
 
 #include <gdal_priv.h>
 #include <gdal_utils.h>
@@ -125,6 +127,32 @@ LoadedSceneAssets loadSceneAssets(const SceneDescription& scene, double maxBytes
         }
     }
     return out;
+}
+
+std::vector<std::string> placeTimedSuns(SceneDescription& scene, const LoadedSceneAssets& loaded) {
+    std::vector<std::string> lines;
+    for (LightDescription& light : scene.lights) {
+        if (light.kind != LightKind::Sun || light.time.empty()) continue;
+        const auto when = parseCanonicalUtc(light.time);
+        if (!when) throw InputError(where(scene, light.where) + "time: expected YYYY-MM-DDTHH:MM:SSZ, found " + light.time);
+        if (loaded.assets.grids.empty() || !loaded.geo.front().georeferenced)
+            throw InputError(where(scene, light.where) +
+                             "time: placing the sun by time needs a georeferenced height field to say where on the "
+                             "Earth the scene is (give azimuth and elevation instead)");
+        const HeightGrid& grid = *loaded.assets.grids.front();
+        double lon = 0.0, lat = 0.0;
+        try {
+            gridCentreLonLat(loaded.geo.front(), grid.width(), grid.height(), "the first height field", lon, lat);
+        } catch (const InputError& e) {
+            throw InputError(where(scene, light.where) + "time: " + e.what());
+        }
+        const SolarPosition p = solarPosition(*when, lat, lon);
+        light.azimuthDeg = p.azimuthDeg;
+        light.elevationDeg = p.apparentElevationDeg;
+        lines.push_back(fmt::format("sun at {} over {:.4f}, {:.4f} (lat, lon): azimuth {:.2f}, elevation {:.2f} degrees",
+                                    light.time, lat, lon, p.azimuthDeg, p.apparentElevationDeg));
+    }
+    return lines;
 }
 
 }  // namespace terracast

@@ -22,6 +22,12 @@ struct LoadedSceneAssets {
 // `path:line:column` of the key that named the file. `maxBytes` bounds each DEM as in loadDem.
 LoadedSceneAssets loadSceneAssets(const SceneDescription& scene, double maxBytes = 0.0);
 
+// Sets the azimuth and elevation of every sun given by a `time`: where the sun stands at that instant over the
+// centre of the first height field (NOAA's solar position, apparent elevation). Returns one line per such sun
+// saying where it put it. Throws InputError at the light's `path:line:column` when the scene has no
+// georeferenced height field to place it on the Earth.
+std::vector<std::string> placeTimedSuns(SceneDescription& scene, const LoadedSceneAssets& loaded);
+
 // Reads an RGB(A) or grey raster as linear RGB, warped onto the lattice of `dem` when both are georeferenced:
 // `width` x `height` samples at the DEM's vertices, row 0 at the north edge.
 DrapeImage loadDrape(const std::string& path, const GeoReference& dem, int64_t width, int64_t height);

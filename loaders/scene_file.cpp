@@ -941,6 +941,21 @@ std::optional<std::string> canonicalUtc(const ZonedTime& t) {
                        inDay / 60 % 60, inDay % 60);
 }
 
+}  // namespace
+
+std::optional<std::string> utcFromIsoTime(std::string_view text, std::string& why) {
+    ZonedTime zoned;
+    if (const auto problem = readIsoTime(text, zoned)) {
+        why = *problem;
+        return std::nullopt;
+    }
+    const auto utc = canonicalUtc(zoned);
+    if (!utc) why = "its UTC date falls outside the years 0001..9999";
+    return utc;
+}
+
+namespace {
+
 // The sun's `time`, as a string or a TOML offset date-time, normalised to UTC.
 std::string parseSunTime(const TableReader& t) {
     const toml::node& n = *t.node("time");
@@ -1008,6 +1023,8 @@ LightDescription parseLight(const TableReader& t) {
 
 // ---- Sky and render settings ----
 
+constexpr int64_t kMaxSkySamples = 1024;
+
 constexpr std::array<Choice<SkyKind>, 4> kSkyKinds{{
     {"physical", SkyKind::Physical},
     {"gradient", SkyKind::Gradient},
@@ -1021,6 +1038,7 @@ const std::vector<KeyRule> kSkyKeys{
     {"haze", {"physical"}},
     {"aerial_perspective", {"physical"}},
     {"ambient", {"physical", "gradient", "flat"}},
+    {"samples", {"physical", "gradient", "flat"}},
 };
 
 SkyDescription parseSky(const TableReader& t) {
@@ -1033,6 +1051,7 @@ SkyDescription parseSky(const TableReader& t) {
     if (const auto h = t.number("haze", kNonNegative)) sky.haze = *h;
     if (const auto a = t.boolean("aerial_perspective")) sky.aerialPerspective = *a;
     if (const auto a = t.singleNumber("ambient", kNonNegative)) sky.ambient = *a;
+    if (const auto n = t.integer("samples", 0, kMaxSkySamples)) sky.samples = static_cast<int>(*n);
     return sky;
 }
 

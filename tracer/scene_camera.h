@@ -18,6 +18,7 @@ public:
     // (outside a fisheye's circle). Directions are unit length.
     std::optional<Ray> generate(double fx, double fy, glm::dvec2 lens = {0.5, 0.5}, double time = 0.0) const;
 
+    CameraKind kind() const { return d_.kind; }
     const glm::dvec3& eye() const { return eye_; }
     const glm::dvec3& forward() const { return forward_; }
     double focusDistance() const { return focus_; }

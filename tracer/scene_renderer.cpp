@@ -2,6 +2,7 @@
 
 #include "tracer/optics.h"
 #include "tracer/parallel.h"
+#include "tracer/rng.h"
 #include "tracer/terrain_renderer.h"
 #include "tracer/warps.h"
 
@@ -32,13 +33,14 @@ glm::vec3 slopeAlbedo(double normalZ) {
 }
 
 struct Counters {
-    int64_t primary = 0, shadow = 0, reflection = 0, refraction = 0, sky = 0, samples = 0;
+    int64_t primary = 0, shadow = 0, reflection = 0, refraction = 0, skyVisibility = 0, sky = 0, samples = 0;
     void count(RayKind kind) {
         switch (kind) {
         case RayKind::Primary: ++primary; break;
         case RayKind::Shadow: ++shadow; break;
         case RayKind::Reflection: ++reflection; break;
         case RayKind::Refraction: ++refraction; break;
+        case RayKind::SkyVisibility: ++skyVisibility; break;
         }
     }
     void addTo(SceneRayStats& s) const {
@@ -46,6 +48,7 @@ struct Counters {
         s.shadow += shadow;
         s.reflection += reflection;
         s.refraction += refraction;
+        s.skyVisibility += skyVisibility;
         s.skyRays += sky;
         s.samples += samples;
     }
@@ -91,25 +94,34 @@ LightSample sampleLight(const SceneLight& light, const glm::dvec3& p, const std:
 // tracer aims at centres.
 class SampleSource {
 public:
-    SampleSource(const PixelSampler* sampler, int px, int py, int k, int lights)
-        : sampler_(sampler), px_(px), py_(py), k_(k), lights_(lights) {}
+    SampleSource(const PixelSampler* sampler, int px, int py, int k, int lights, uint64_t seed)
+        : sampler_(sampler), px_(px), py_(py), k_(k), lights_(lights), stream_(seed ^ kSkyStreamKey, px, py, uint64_t(k)) {}
     std::optional<glm::dvec2> light(int depth, int index) const { return get(uint32_t(3 + depth * (lights_ + 1) + index)); }
     std::optional<glm::dvec2> gloss(int depth) const { return get(uint32_t(3 + depth * (lights_ + 1) + lights_)); }
+    // Point i of n for the sky-visibility rays at a bounce: a randomly shifted rank-1 lattice (x stratified,
+    // y by the golden ratio), so that even one camera sample spreads its n rays over the hemisphere.
+    glm::dvec2 sky(int depth, int i, int n) const {
+        const double shiftX = stream_.uniform(uint64_t(2 * depth)), shiftY = stream_.uniform(uint64_t(2 * depth + 1));
+        const double x = (i + shiftX) / n, y = shiftY + 0.6180339887498949 * i;
+        return {x, y - std::floor(y)};
+    }
 
 private:
     std::optional<glm::dvec2> get(uint32_t dimension) const {
         if (!sampler_) return std::nullopt;
         return sampler_->sample(px_, py_, k_, dimension);
     }
+    static constexpr uint64_t kSkyStreamKey = 0x736b792d76697321ull;
     const PixelSampler* sampler_;
     int px_, py_, k_, lights_;
+    RandomStream stream_;
 };
 
 class Tracer {
 public:
-    Tracer(const Scene& scene, const SceneRenderSettings& settings, Counters& counters, std::vector<RayRecord>* tree,
-           const SampleSource& samples)
-        : scene_(scene), s_(settings), counters_(counters), tree_(tree), samples_(samples) {}
+    Tracer(const Scene& scene, const Sky& sky, const SceneRenderSettings& settings, Counters& counters,
+           std::vector<RayRecord>* tree, const SampleSource& samples, bool aerial)
+        : scene_(scene), sky_(sky), s_(settings), counters_(counters), tree_(tree), samples_(samples), aerial_(aerial) {}
 
     // Radiance arriving along `ray` (unit direction), travelling through a medium absorbing `sigma` per metre.
     glm::vec3 trace(const Ray& ray, RayKind kind, int depth, const glm::vec3& weight, const glm::vec3& sigma) {
@@ -119,12 +131,14 @@ public:
         glm::vec3 radiance;
         if (!scene_.intersect(ray, {0.0, kInfinity}, hit)) {
             ++counters_.sky;
-            radiance = skyRadiance(scene_, ray.dir) + sunDisc(ray.dir);
+            radiance = sky_.radiance(ray.dir) + sunDisc(ray.dir);
             endRecord(record, "sky", kInfinity, weight * radiance);
             return radiance;
         }
         radiance = shade(ray, hit, depth, weight, sigma);
         if (sigma != glm::vec3(0.0f)) radiance *= beerLambert(sigma, hit.t);
+        // Aerial perspective on the camera's own segment (already part of the sky's radiance for rays that miss).
+        if (kind == RayKind::Primary && aerial_) radiance = sky_.throughAir(radiance, ray.dir, hit.t);
         endRecord(record, scene_.objects()[size_t(hit.object)].name, hit.t, weight * radiance);
         return radiance;
     }
@@ -139,10 +153,10 @@ private:
 
         if (m.kd > 0.0f || m.ks > 0.0f) {
             const glm::vec3 albedo = surfaceColour(obj, m, hit);
-            // Sky light: the sky's colour straight up, stronger on surfaces facing up.
-            radiance += scene_.sky().ambient * float(0.5 + 0.5 * n.z) * albedo * m.kd * skyAmbient();
+            if (m.kd > 0.0f) radiance += albedo * m.kd * skyLight(hit, n, depth, weight, ray.time);
             for (size_t li = 0; li < scene_.lights().size(); ++li) {
-                const LightSample ls = sampleLight(scene_.lights()[li], hit.point, samples_.light(depth, int(li)));
+                LightSample ls = sampleLight(scene_.lights()[li], hit.point, samples_.light(depth, int(li)));
+                if (scene_.lights()[li].kind == LightKind::Sun) ls.irradiance = sky_.sunlight(ls.irradiance, ls.dir, hit.point.z);
                 const double cosL = glm::dot(n, ls.dir);
                 if (cosL <= 0.0) continue;  // the surface faces away: no shadow ray
                 const glm::vec3 t = shadowTransmittance(hit, ls.dir, ls.distance, sigma, depth, weight, ray.time);
@@ -258,15 +272,38 @@ private:
         return elevationAlbedo(hit.point.z - hf->offset().z, hf->grid().minHeightM(), hf->grid().maxHeightM());
     }
 
-    glm::vec3 skyAmbient() const { return skyRadiance(scene_, {0.0, 0.0, 1.0}); }
+    // Light from the sky on a diffuse surface (before albedo): the sky's light on a surface so oriented, times the
+    // open fraction of the hemisphere when the sky asks for visibility rays (cosine-weighted directions about the
+    // normal, each tested against opaque objects), so that valleys and the ground under objects get less of it.
+    // Weighting visibility rather than each ray's radiance keeps open ground free of noise.
+    glm::vec3 skyLight(const SurfaceHit& hit, const glm::dvec3& n, int depth, const glm::vec3& weight, double time) {
+        if (sky_.ambientScale() <= 0.0f) return glm::vec3(0.0f);
+        const glm::vec3 open = sky_.ambient(n.z);
+        const int count = scene_.sky().samples;
+        if (count <= 0) return open;
+        const Frame frame = Frame::around(n);
+        int visible = 0;
+        for (int i = 0; i < count; ++i) {
+            const glm::dvec3 dir = frame.toWorld(squareToCosineHemisphere(samples_.sky(depth, i, count)));
+            counters_.count(RayKind::SkyVisibility);
+            const Ray ray = spawn(hit, dir, time);
+            const size_t record = beginRecord(ray, RayKind::SkyVisibility, depth + 1, weight);
+            const bool blocked = scene_.occludedByOpaque(ray, {0.0, kInfinity});
+            visible += !blocked;
+            endRecord(record, blocked ? "blocked" : "sky", blocked ? 0.0 : kInfinity, blocked ? glm::vec3(0.0f) : open);
+        }
+        return open * (float(visible) / float(count));
+    }
 
-    // The sun's disc, seen directly or in a mirror: its irradiance spread over the disc's solid angle.
+    // The sun's disc, seen directly or in a mirror: its irradiance spread over the disc's solid angle (reddened
+    // by the air between the camera and the sun with the physical sky).
     glm::vec3 sunDisc(const glm::dvec3& dir) const {
         glm::vec3 l{0.0f};
         for (const SceneLight& light : scene_.lights()) {
             if (light.kind != LightKind::Sun || light.cosAngularRadius >= 1.0) continue;
             if (glm::dot(dir, light.direction) >= light.cosAngularRadius)
-                l += light.radiance / float(2.0 * kPi * (1.0 - light.cosAngularRadius));
+                l += sky_.sunlight(light.radiance, light.direction, sky_.viewerAltitudeM()) /
+                     float(2.0 * kPi * (1.0 - light.cosAngularRadius));
         }
         return l;
     }
@@ -300,10 +337,12 @@ private:
     }
 
     const Scene& scene_;
+    const Sky& sky_;
     const SceneRenderSettings& s_;
     Counters& counters_;
     std::vector<RayRecord>* tree_;
     SampleSource samples_;
+    bool aerial_;
 };
 
 // One camera sample: its film position, lens point and time from the sampler, traced and returned with its
@@ -313,7 +352,7 @@ struct CameraSample {
     double weight = 0.0;
 };
 
-CameraSample cameraSample(const Scene& scene, const SceneCamera& camera, const SceneRenderSettings& s,
+CameraSample cameraSample(const Scene& scene, const Sky& sky, const SceneCamera& camera, const SceneRenderSettings& s,
                           const PixelSampler* sampler, int x, int y, int k, Counters& counters,
                           std::vector<RayRecord>* tree) {
     glm::dvec2 offset{0.0}, lens{0.5};
@@ -327,18 +366,21 @@ CameraSample cameraSample(const Scene& scene, const SceneCamera& camera, const S
     out.weight = sampler ? s.filter.evaluate(offset) : 1.0;
     const auto ray = camera.generate((x + 0.5 + offset.x) / s.width, (y + 0.5 + offset.y) / s.height, lens, time);
     if (!ray) return out;  // outside a fisheye's circle: black
-    Tracer tracer(scene, s, counters, tree, SampleSource(sampler, x, y, k, int(scene.lights().size())));
+    // Aerial perspective needs one centre of projection: the orthographic camera's rays have none.
+    const bool aerial = sky.aerialPerspective() && camera.kind() != CameraKind::Orthographic;
+    Tracer tracer(scene, sky, s, counters, tree, SampleSource(sampler, x, y, k, int(scene.lights().size()), s.seed),
+                  aerial);
     out.radiance = tracer.trace(*ray, RayKind::Primary, 0, glm::vec3(1.0f), glm::vec3(0.0f));
     return out;
 }
 
-glm::vec3 pixelValue(const Scene& scene, const SceneCamera& camera, const SceneRenderSettings& s,
+glm::vec3 pixelValue(const Scene& scene, const Sky& sky, const SceneCamera& camera, const SceneRenderSettings& s,
                      const PixelSampler* sampler, int x, int y, Counters& counters, std::vector<RayRecord>* tree) {
     PixelAccumulator acc;
     RunningStats stats;
     const int n = sampler ? (s.adaptive ? s.rule.maxSamples : sampler->samplesPerPixel()) : 1;
     for (int k = 0; k < n; ++k) {
-        const CameraSample c = cameraSample(scene, camera, s, sampler, x, y, k, counters, tree);
+        const CameraSample c = cameraSample(scene, sky, camera, s, sampler, x, y, k, counters, tree);
         acc.add(c.radiance, c.weight);
         ++counters.samples;
         if (!s.adaptive) continue;
@@ -362,18 +404,19 @@ const char* rayKindName(RayKind kind) {
     case RayKind::Shadow: return "shadow";
     case RayKind::Reflection: return "reflection";
     case RayKind::Refraction: return "refraction";
+    case RayKind::SkyVisibility: return "sky-visibility";
     }
     return "ray";
 }
 
-glm::vec3 skyRadiance(const Scene& scene, const glm::dvec3& dir) {
-    switch (scene.sky().kind) {
-    case SkyKind::None: return glm::vec3(0.0f);
-    case SkyKind::Flat: return scene.sky().colour;
-    case SkyKind::Gradient:
-    case SkyKind::Physical: return gradientSky(dir);
-    }
-    return glm::vec3(0.0f);
+Sky makeSceneSky(const Scene& scene, double viewerAltitudeM) {
+    std::optional<SkySun> sun;
+    for (const SceneLight& light : scene.lights())
+        if (light.kind == LightKind::Sun) {
+            sun = SkySun{light.direction, light.radiance};
+            break;
+        }
+    return Sky(scene.sky(), sun, viewerAltitudeM);
 }
 
 SceneCamera makeSceneCamera(const Scene& scene, const CameraDescription& d, double aspect) {
@@ -425,7 +468,8 @@ glm::vec3 tracePixel(const Scene& scene, const SceneCamera& camera, const SceneR
                      std::vector<RayRecord>* tree, SceneRayStats* stats) {
     Counters counters;
     const auto sampler = makeSampler(s);
-    const glm::vec3 value = pixelValue(scene, camera, s, sampler.get(), x, y, counters, tree);
+    const Sky sky = makeSceneSky(scene, camera.eye().z);
+    const glm::vec3 value = pixelValue(scene, sky, camera, s, sampler.get(), x, y, counters, tree);
     if (stats) counters.addTo(*stats);
     return value;
 }
@@ -438,10 +482,11 @@ Film renderScene(const Scene& scene, const SceneCamera& camera, const SceneRende
     int64_t pixelsDone = 0;
     const int64_t pixels = int64_t(s.width) * s.height;
     const auto sampler = makeSampler(s);
+    const Sky sky = makeSceneSky(scene, camera.eye().z);
     parallelForTiles(s.width, s.height, s.tileSize, s.threads, [&](int x0, int y0, int x1, int y1) {
         Counters counters;
         for (int y = y0; y < y1; ++y)
-            for (int x = x0; x < x1; ++x) film.set(x, y, pixelValue(scene, camera, s, sampler.get(), x, y, counters, nullptr));
+            for (int x = x0; x < x1; ++x) film.set(x, y, pixelValue(scene, sky, camera, s, sampler.get(), x, y, counters, nullptr));
         std::lock_guard lock(mutex);
         counters.addTo(total);
         pixelsDone += int64_t(x1 - x0) * (y1 - y0);

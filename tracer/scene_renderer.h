@@ -8,6 +8,7 @@
 #include "tracer/samplers.h"
 #include "tracer/scene.h"
 #include "tracer/scene_camera.h"
+#include "tracer/sky.h"
 
 #include <cstdint>
 #include <functional>
@@ -17,7 +18,7 @@
 
 namespace terracast {
 
-enum class RayKind { Primary, Shadow, Reflection, Refraction };
+enum class RayKind { Primary, Shadow, Reflection, Refraction, SkyVisibility };
 const char* rayKindName(RayKind kind);
 
 struct SceneRenderSettings {
@@ -40,16 +41,18 @@ struct SceneRenderSettings {
     std::function<void(double fraction, int64_t rays)> progress;
 };
 
-// Rays traced, by kind. `skyRays` counts rays of any kind except shadow rays that left the scene.
+// Rays traced, by kind. `skyRays` counts rays of any kind except shadow and sky-visibility rays that left the
+// scene; `skyVisibility` counts the hemisphere rays that test how much sky a diffuse surface sees.
 struct SceneRayStats {
     int64_t primary = 0;
     int64_t shadow = 0;
     int64_t reflection = 0;
     int64_t refraction = 0;
+    int64_t skyVisibility = 0;
     int64_t skyRays = 0;
     int64_t samples = 0;        // camera samples taken (pixels times samples per pixel, or fewer when adaptive)
     double seconds = 0.0;
-    int64_t total() const { return primary + shadow + reflection + refraction; }
+    int64_t total() const { return primary + shadow + reflection + refraction + skyVisibility; }
 };
 
 // One ray of a pixel's ray tree (debug mode).
@@ -81,7 +84,7 @@ Film renderScene(const Scene& scene, const SceneCamera& camera, const SceneRende
 glm::vec3 tracePixel(const Scene& scene, const SceneCamera& camera, const SceneRenderSettings& settings, int x, int y,
                      std::vector<RayRecord>* tree, SceneRayStats* stats = nullptr);
 
-// The sky radiance seen along a unit direction (also used for ambient light).
-glm::vec3 skyRadiance(const Scene& scene, const glm::dvec3& dir);
+// The sky of a render: the scene's sky model lit by its first sun, seen from `viewerAltitudeM` (the camera's).
+Sky makeSceneSky(const Scene& scene, double viewerAltitudeM);
 
 }  // namespace terracast

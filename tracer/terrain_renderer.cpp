@@ -1,6 +1,9 @@
 #include "tracer/terrain_renderer.h"
 
 #include "tracer/parallel.h"
+#include "tracer/rng.h"
+#include "tracer/sky.h"
+#include "tracer/warps.h"
 
 #include <atomic>
 #include <chrono>
@@ -74,49 +77,107 @@ glm::vec3 shadeTerrainHit(const HeightGrid& grid, const HeightFieldHit& hit, con
     return albedo * (direct * kSunColour + skyLight * kSkyAmbient);
 }
 
+namespace {
+
+// One hit's colour under the render's sky: direct sun (through the air with the physical sky), sky light from
+// the open part of the hemisphere (tested with sky-visibility rays when the sky asks for them), and aerial
+// perspective along the camera ray.
+class TerrainShader {
+public:
+    TerrainShader(const HeightGrid& grid, const TerrainSurface& surface, const TerrainRenderSettings& s)
+        : grid_(grid), surface_(surface), s_(s), toSun_(s.sun.direction()),
+          sunIrradiance_((s.sky.kind == SkyKind::Physical ? glm::vec3(1.0f) : kSunColour) * s.sun.intensity),
+          sky_(s.sky, SkySun{toSun_, sunIrradiance_}, s.camera.eyeM.z) {}
+
+    glm::vec3 miss(const glm::dvec3& dir) const { return sky_.radiance(dir); }
+
+    glm::vec3 hit(const HeightFieldHit& hit, const Ray& ray, int px, int py, int64_t& shadowRays,
+                  int64_t& skyRays) const {
+        const glm::dvec3 n = glm::dot(hit.normal, ray.dir) > 0.0 ? -hit.normal : hit.normal;
+        const glm::vec3 albedo = elevationAlbedo(hit.pointM.z, grid_.minHeightM(), grid_.maxHeightM());
+        glm::vec3 light{0.0f};
+        if (const auto shadowRay = sunShadowRay(hit, ray.dir, s_)) {
+            ++shadowRays;
+            if (!surface_.occluded(*shadowRay, {0.0, kInfinity}))
+                light += sky_.sunlight(sunIrradiance_, toSun_, hit.pointM.z) * float(glm::dot(n, toSun_));
+        }
+        light += skyLight(hit, n, px, py, skyRays);
+        return sky_.throughAir(albedo * light, ray.dir, hit.t);
+    }
+
+private:
+    // The sky's light on a surface so oriented, times the open fraction of the hemisphere when the sky asks for
+    // visibility rays (see the scene renderer's sky light).
+    glm::vec3 skyLight(const HeightFieldHit& hit, const glm::dvec3& n, int px, int py, int64_t& skyRays) const {
+        if (sky_.ambientScale() <= 0.0f) return glm::vec3(0.0f);
+        const glm::vec3 open = sky_.ambient(n.z);
+        const int count = s_.sky.samples;
+        if (count <= 0) return open;
+        // A randomly shifted rank-1 lattice per pixel: x stratified, y by the golden ratio.
+        const RandomStream stream(s_.seed, px, py);
+        const double shiftX = stream.uniform(0), shiftY = stream.uniform(1);
+        const Frame frame = Frame::around(n);
+        int visible = 0;
+        for (int i = 0; i < count; ++i) {
+            const double y = shiftY + 0.6180339887498949 * i;
+            const glm::dvec3 dir = frame.toWorld(squareToCosineHemisphere({(i + shiftX) / count, y - std::floor(y)}));
+            ++skyRays;
+            visible += !surface_.occluded(Ray{spawnOrigin(hit, dir), dir}, {0.0, kInfinity});
+        }
+        return open * (float(visible) / float(count));
+    }
+
+    const HeightGrid& grid_;
+    const TerrainSurface& surface_;
+    const TerrainRenderSettings& s_;
+    glm::dvec3 toSun_;
+    glm::vec3 sunIrradiance_;
+    Sky sky_;
+};
+
+}  // namespace
+
 Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const TerrainRenderSettings& s,
                    RenderStats* stats) {
     const auto start = std::chrono::steady_clock::now();
     Film film(s.width, s.height);
     const double aspect = double(s.width) / double(s.height);
+    const TerrainShader shader(grid, surface, s);
 
-    std::atomic<int64_t> primary{0}, shadow{0}, hits{0}, pixelsDone{0};
+    std::atomic<int64_t> primary{0}, shadow{0}, sky{0}, hits{0}, pixelsDone{0};
     std::mutex progressMutex;
     const int64_t totalPixels = int64_t(s.width) * s.height;
 
     parallelForTiles(s.width, s.height, s.tileSize, s.threads, [&](int x0, int y0, int x1, int y1) {
-        int64_t nPrimary = 0, nShadow = 0, nHits = 0;
+        int64_t nPrimary = 0, nShadow = 0, nSky = 0, nHits = 0;
         for (int y = y0; y < y1; ++y) {
             for (int x = x0; x < x1; ++x) {
                 const Ray ray = s.camera.generate((x + 0.5) / s.width, (y + 0.5) / s.height, aspect);
                 ++nPrimary;
                 const auto hit = surface.intersect(ray, {0.0, kInfinity});
                 if (!hit) {
-                    film.set(x, y, gradientSky(ray.dir));
+                    film.set(x, y, shader.miss(ray.dir));
                     continue;
                 }
                 ++nHits;
-                bool lit = false;
-                if (const auto shadowRay = sunShadowRay(*hit, ray.dir, s)) {
-                    ++nShadow;
-                    lit = !surface.occluded(*shadowRay, {0.0, kInfinity});
-                }
-                film.set(x, y, shadeTerrainHit(grid, *hit, ray.dir, lit, s));
+                film.set(x, y, shader.hit(*hit, ray, x, y, nShadow, nSky));
             }
         }
         primary += nPrimary;
         shadow += nShadow;
+        sky += nSky;
         hits += nHits;
         const int64_t done = pixelsDone += int64_t(x1 - x0) * (y1 - y0);
         if (s.progress) {
             std::lock_guard lock(progressMutex);
-            s.progress(double(done) / double(totalPixels), primary.load() + shadow.load());
+            s.progress(double(done) / double(totalPixels), primary.load() + shadow.load() + sky.load());
         }
     });
 
     if (stats) {
         stats->primaryRays = primary;
         stats->shadowRays = shadow;
+        stats->skyVisibilityRays = sky;
         stats->hits = hits;
         stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }

@@ -1,11 +1,13 @@
 // The terrain renderer: a pinhole view of one height grid, lit by a directional sun with ray-traced cast
-// shadows, a constant ambient term and a gradient sky for rays that miss.
+// shadows and by the sky (open-sky fraction from sky-visibility rays), under a physical, gradient, flat or no
+// sky, with aerial perspective in front of distant terrain.
 #pragma once
 
 #include "heightfield/height_grid.h"
 #include "heightfield/traversal.h"
 #include "tracer/camera.h"
 #include "tracer/film.h"
+#include "tracer/scene_description.h"
 #include "tracer/surface.h"
 
 #include <cstdint>
@@ -29,7 +31,10 @@ struct TerrainRenderSettings {
     int height = 720;                          // pixels
     PinholeCamera camera;                      // local metres
     Sun sun;
-    float ambient = 0.18f;                     // constant ambient light, fraction of the sun's
+    SkyDescription sky;                        // model (physical by default), haze, aerial perspective, ambient,
+                                               // sky-visibility rays per hit
+    uint64_t seed = 0;                         // for the sky-visibility directions
+    float ambient = 0.18f;                     // shadeTerrainHit's constant ambient, fraction of the sun's
     int threads = 0;                           // worker threads; 0 = all cores
     int tileSize = 32;                         // pixels per side of a work tile
     // Called now and then with the fraction of pixels done and the rays traced so far (any thread, serialised).
@@ -40,6 +45,7 @@ struct TerrainRenderSettings {
 struct RenderStats {
     int64_t primaryRays = 0;
     int64_t shadowRays = 0;
+    int64_t skyVisibilityRays = 0;
     int64_t hits = 0;
     double seconds = 0.0;
 };
@@ -51,7 +57,8 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
 // The shadow ray a hit needs towards the sun, or none when the surface faces away from it (or the sun is down).
 std::optional<Ray> sunShadowRay(const HeightFieldHit& hit, const glm::dvec3& rayDir, const TerrainRenderSettings& settings);
 
-// The colour of a hit seen along `rayDir`: height-ramp albedo times sun (when `sunVisible`) plus sky ambient.
+// A plain look for comparisons (no sky model): height-ramp albedo times the sun (when `sunVisible`) plus a
+// constant ambient term.
 glm::vec3 shadeTerrainHit(const HeightGrid& grid, const HeightFieldHit& hit, const glm::dvec3& rayDir, bool sunVisible,
                           const TerrainRenderSettings& settings);
 

@@ -38,7 +38,8 @@ TEST_CASE("CLI: scene renders a sample scene and reports rays by kind", "[cli][s
     CHECK(image.width == 64);
     CHECK(image.height == 48);
     CHECK(r.err.find("3072 primary") != std::string::npos);
-    CHECK(r.err.find(" 0 refraction rays") != std::string::npos);
+    CHECK(r.err.find(" 0 refraction,") != std::string::npos);
+    CHECK(r.err.find(" sky-visibility rays") != std::string::npos);
 }
 
 namespace {

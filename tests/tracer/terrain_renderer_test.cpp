@@ -74,6 +74,7 @@ TEST_CASE("Flat terrain is lit by Lambert's cosine law plus ambient", "[tracer]"
     s.camera.lookAtM = {40, 40, 100};
     s.camera.up = {0, 1, 0};
     s.camera.fovYDeg = 2.0;
+    s.sky.kind = SkyKind::Flat;  // sky light independent of the sun
     RenderStats low, high;
     s.sun = Sun{200.0, 20.0};
     const TerrainSurface surface(g, SurfaceMethod::Bilinear);

@@ -1,0 +1,71 @@
+#include "tracer/sky.h"
+
+#include "tracer/terrain_renderer.h"
+#include "tracer/warps.h"
+
+#include <cmath>
+#include <map>
+#include <mutex>
+
+namespace terracast {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}  // namespace
+
+std::shared_ptr<const TransmittanceTable> sharedTransmittanceTable(const AtmosphereParameters& parameters) {
+    // Keyed by haze, the only parameter a user sets; a few entries at most.
+    static std::mutex mutex;
+    static std::map<double, std::shared_ptr<const TransmittanceTable>> cache;
+    std::lock_guard lock(mutex);
+    auto& entry = cache[parameters.haze];
+    if (!entry) entry = std::make_shared<const TransmittanceTable>(parameters);
+    return entry;
+}
+
+Sky::Sky(const SkyDescription& description, const std::optional<SkySun>& sun, double viewerAltitudeM)
+    : d_(description), viewerAltitudeM_(viewerAltitudeM) {
+    if (d_.kind == SkyKind::Physical) {
+        AtmosphereParameters a;
+        a.haze = d_.haze;
+        transmittance_ = sharedTransmittanceTable(a);
+        const glm::dvec3 zenith = transmittance_->toTop(a.earthRadiusM, 1.0);
+        whiteBalance_ = glm::vec3(1.0 / zenith);
+        if (sun) {
+            tables_ = std::make_unique<SkyTables>(transmittance_, viewerAltitudeM, sun->direction);
+            skyScale_ = float(kPi) * whiteBalance_ * sun->irradiance;
+        }
+    }
+    ambientScale_ = d_.kind == SkyKind::None ? 0.0f : d_.ambientScale();
+    // The cosine-weighted mean radiance of the upper hemisphere, on a 16 x 16 stratified grid.
+    glm::dvec3 sum(0.0);
+    constexpr int n = 16;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) sum += glm::dvec3(radiance(squareToCosineHemisphere({(i + 0.5) / n, (j + 0.5) / n})));
+    hemisphereMean_ = glm::vec3(sum / double(n * n));
+}
+
+glm::vec3 Sky::radiance(const glm::dvec3& dir) const {
+    switch (d_.kind) {
+    case SkyKind::None: return glm::vec3(0.0f);
+    case SkyKind::Flat: return d_.colour;
+    case SkyKind::Gradient: return gradientSky(dir);
+    case SkyKind::Physical: return tables_ ? skyScale_ * tables_->radiance(dir) : glm::vec3(0.0f);
+    }
+    return glm::vec3(0.0f);
+}
+
+glm::vec3 Sky::sunlight(const glm::vec3& irradiance, const glm::dvec3& toSun, double altitudeM) const {
+    if (!transmittance_) return irradiance;
+    const double r = transmittance_->parameters().earthRadiusM + std::max(0.0, altitudeM);
+    return irradiance * whiteBalance_ * glm::vec3(transmittance_->sunlight(r, toSun.z));
+}
+
+glm::vec3 Sky::throughAir(const glm::vec3& surface, const glm::dvec3& dir, double distanceM) const {
+    if (!aerialPerspective()) return surface;
+    glm::vec3 t, in;
+    tables_->aerial(dir, distanceM, t, in);
+    return t * surface + skyScale_ * in;
+}
+
+}  // namespace terracast

@@ -1,0 +1,63 @@
+// The sky a render sees, built once per render from the scene's sky description: the physical atmosphere's
+// tables (tracer/atmosphere.h) or the simple gradient and flat skies. Everything it returns is in the
+// renderers' units, where a white surface of albedo a facing a sun of irradiance E has radiance a E.
+#pragma once
+
+#include "tracer/atmosphere.h"
+#include "tracer/scene_description.h"
+
+#include <glm/glm.hpp>
+
+#include <memory>
+#include <optional>
+
+namespace terracast {
+
+// The sun that lights a physical sky: unit direction towards it and its irradiance (colour times intensity).
+struct SkySun {
+    glm::dvec3 direction{0.0, 0.0, 1.0};
+    glm::vec3 irradiance{1.0f};
+};
+
+// The transmittance table of an atmosphere, shared by every render in the process that uses the same haze.
+std::shared_ptr<const TransmittanceTable> sharedTransmittanceTable(const AtmosphereParameters& parameters);
+
+class Sky {
+public:
+    // `sun` lights the physical sky (none: a sky at night); `viewerAltitudeM` places the camera above sea level.
+    Sky(const SkyDescription& description, const std::optional<SkySun>& sun, double viewerAltitudeM);
+
+    SkyKind kind() const { return d_.kind; }
+    const SkyDescription& description() const { return d_; }
+
+    // Radiance arriving from the sky along a unit direction (the sun's disc excluded). Below the physical
+    // horizon this is the Earth's lit ground seen through the air, not the sky.
+    glm::vec3 radiance(const glm::dvec3& dir) const;
+    // The irradiance a sun of `irradiance` (as a scene states it) delivers at an altitude: reddened by the air
+    // in front of it with the physical sky (white when the sun stands at the zenith over sea level), unchanged
+    // otherwise.
+    glm::vec3 sunlight(const glm::vec3& irradiance, const glm::dvec3& toSun, double altitudeM) const;
+    double viewerAltitudeM() const { return viewerAltitudeM_; }
+    // What the viewer sees of a surface of radiance `surface` at `distanceM` along `dir`: dimmed by the air and
+    // with the light the air scatters in added (aerial perspective). Unchanged unless enabled.
+    glm::vec3 throughAir(const glm::vec3& surface, const glm::dvec3& dir, double distanceM) const;
+    bool aerialPerspective() const { return tables_ && d_.aerialPerspective; }
+
+    // Sky light on a surface of normal z-component `normalZ` with the whole sky open: the cosine-weighted mean
+    // radiance of the upper hemisphere, times the ambient scale, fading on tilted surfaces (half on a wall).
+    glm::vec3 ambient(double normalZ) const { return ambientScale_ * float(0.5 + 0.5 * normalZ) * hemisphereMean_; }
+    // The ambient scale alone (sky light = scale x mean radiance of the open sky directions).
+    float ambientScale() const { return ambientScale_; }
+
+private:
+    SkyDescription d_;
+    double viewerAltitudeM_ = 0.0;
+    std::shared_ptr<const TransmittanceTable> transmittance_;
+    std::unique_ptr<SkyTables> tables_;
+    glm::vec3 skyScale_{0.0f};      // physical: pi x white balance x the sun's irradiance
+    glm::vec3 whiteBalance_{1.0f};  // physical: 1 / transmittance of a zenith sun at sea level
+    float ambientScale_ = 0.0f;
+    glm::vec3 hemisphereMean_{0.0f};
+};
+
+}  // namespace terracast
