@@ -326,8 +326,8 @@ void SkyTables::aerial(const glm::dvec3& dir, double distanceM, glm::vec3& trans
     const double slice = std::sqrt(std::clamp(distanceM / kAerialMaxM, 0.0, 1.0)) * (kAerialSlices - 1);
     const int i = std::min(int(fx), kAerialAzimuth - 2), j = std::clamp(int(fy), 0, kAerialRows - 2);
     const int k = std::min(int(slice), kAerialSlices - 2);
-    const double d0 = kAerialMaxM * std::pow(double(k) / (kAerialSlices - 1), 2);
-    const double d1 = kAerialMaxM * std::pow(double(k + 1) / (kAerialSlices - 1), 2);
+    const double s0 = double(k) / (kAerialSlices - 1), s1 = double(k + 1) / (kAerialSlices - 1);
+    const double d0 = kAerialMaxM * s0 * s0, d1 = kAerialMaxM * s1 * s1;
     const float u = float(fx - i), v = float(std::clamp(fy - j, 0.0, 1.0));
     const float w = float(std::clamp((distanceM - d0) / (d1 - d0), 0.0, 1.0));
     auto at = [&](int ii, int jj, int kk) -> const Texel& {
@@ -343,7 +343,7 @@ void SkyTables::aerial(const glm::dvec3& dir, double distanceM, glm::vec3& trans
     const Texel t{glm::mix(s[0].rayleigh, s[1].rayleigh, w), glm::mix(s[0].mie, s[1].mie, w),
                   glm::mix(s[0].extra, s[1].extra, w)};
     // Optical depth interpolates far better than transmittance where the air thickens quickly.
-    transmittance = glm::vec3(std::exp(-t.extra.x), std::exp(-t.extra.y), std::exp(-t.extra.z));
+    transmittance = glm::vec3(std::exp(-t.extra.x), std::exp(-t.extra.y), std::exp(-t.extra.z));  // float exp
     inscattered = combine(t, nu);
 }
 

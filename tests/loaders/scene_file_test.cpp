@@ -372,6 +372,12 @@ TEST_CASE("Scene file: per-type defaults and the other camera, sky and light typ
     CHECK(flat.sky.ambient == 0.0f);
     CHECK(parse("[sky]\nmodel = \"gradient\"\n", folder).sky.kind == SkyKind::Gradient);
     CHECK(parse("[sky]\nmodel = \"none\"\n", folder).sky.kind == SkyKind::None);
+    // Sky-visibility rays; the ambient scale defaults to the model's own when unset.
+    const SceneDescription rays = parse("[sky]\nmodel = \"gradient\"\nsamples = 12\n", folder);
+    CHECK(rays.sky.samples == 12);
+    CHECK_FALSE(rays.sky.ambient);
+    CHECK(rays.sky.ambientScale() == 0.15f);
+    CHECK(parse("[sky]\n", folder).sky.ambientScale() == 1.0f);
 
     // A TOML offset date-time is accepted as well as a string, and normalised to UTC across midnight.
     const SceneDescription native = parse("[[light]]\ntime = 2026-01-01T00:30:00-01:00\n", folder);
@@ -464,6 +470,8 @@ TEST_CASE("Scene file: an unknown key in any table is refused with a near-miss s
     CHECK(errorOf("[camera]\nlookat = [1, 2, 3]\n") ==
           "scene.toml:2:1: unknown key 'lookat' in [camera] (did you mean 'look_at'?)");
     CHECK(errorOf("[sky]\n  Haze = 2\n") == "scene.toml:2:3: unknown key 'Haze' in [sky] (did you mean 'haze'?)");
+    CHECK(errorOf("[sky]\nsamples = -1\n") == "scene.toml:2:11: samples: expected an integer in 0..1024, found -1");
+    CHECK(errorOf("[sky]\nmodel = \"none\"\nsamples = 4\n").rfind("scene.toml:3:1: key 'samples' does not apply", 0) == 0);
     CHECK(errorOf("[[light]]\nbrightness = 2\n") == "scene.toml:2:1: unknown key 'brightness' in [[light]]");
     // The first unknown key in the file is the one reported, whatever the alphabet says.
     CHECK(errorOf("[render]\nzz = 1\naa = 2\n") == "scene.toml:2:1: unknown key 'zz' in [render]");
