@@ -98,12 +98,9 @@ public:
         : sampler_(sampler), px_(px), py_(py), k_(k), lights_(lights), stream_(seed ^ kSkyStreamKey, px, py, uint64_t(k)) {}
     std::optional<glm::dvec2> light(int depth, int index) const { return get(uint32_t(3 + depth * (lights_ + 1) + index)); }
     std::optional<glm::dvec2> gloss(int depth) const { return get(uint32_t(3 + depth * (lights_ + 1) + lights_)); }
-    // Point i of n for the sky-visibility rays at a bounce: a randomly shifted rank-1 lattice (x stratified,
-    // y by the golden ratio), so that even one camera sample spreads its n rays over the hemisphere.
+    // Point i of n for the sky-visibility rays at a bounce, shifted by this sample's own random point.
     glm::dvec2 sky(int depth, int i, int n) const {
-        const double shiftX = stream_.uniform(uint64_t(2 * depth)), shiftY = stream_.uniform(uint64_t(2 * depth + 1));
-        const double x = (i + shiftX) / n, y = shiftY + 0.6180339887498949 * i;
-        return {x, y - std::floor(y)};
+        return skyVisibilityPoint(i, n, stream_.uniform2(uint64_t(2 * depth)));
     }
 
 private:

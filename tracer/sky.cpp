@@ -13,6 +13,11 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 }  // namespace
 
+glm::dvec2 skyVisibilityPoint(int i, int n, const glm::dvec2& shift) {
+    const double x = (i + shift.x) / n, y = shift.y + 0.6180339887498949 * i;
+    return {x, y - std::floor(y)};
+}
+
 std::shared_ptr<const TransmittanceTable> sharedTransmittanceTable(const AtmosphereParameters& parameters) {
     // Keyed by haze, the only parameter a user sets; a few entries at most.
     static std::mutex mutex;

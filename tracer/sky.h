@@ -19,6 +19,11 @@ struct SkySun {
     glm::vec3 irradiance{1.0f};
 };
 
+// Point i of n in [0, 1)^2 for sky-visibility rays: a rank-1 lattice (x stratified, y stepping by the golden
+// ratio) shifted by `shift` (a random point per pixel and sample), so that even a few rays spread over the
+// hemisphere once warped to cosine-weighted directions.
+glm::dvec2 skyVisibilityPoint(int i, int n, const glm::dvec2& shift);
+
 // The transmittance table of an atmosphere, shared by every render in the process that uses the same haze.
 std::shared_ptr<const TransmittanceTable> sharedTransmittanceTable(const AtmosphereParameters& parameters);
 

@@ -113,14 +113,11 @@ private:
         const glm::vec3 open = sky_.ambient(n.z);
         const int count = s_.sky.samples;
         if (count <= 0) return open;
-        // A randomly shifted rank-1 lattice per pixel: x stratified, y by the golden ratio.
-        const RandomStream stream(s_.seed, px, py);
-        const double shiftX = stream.uniform(0), shiftY = stream.uniform(1);
+        const glm::dvec2 shift = RandomStream(s_.seed, px, py).uniform2(0);
         const Frame frame = Frame::around(n);
         int visible = 0;
         for (int i = 0; i < count; ++i) {
-            const double y = shiftY + 0.6180339887498949 * i;
-            const glm::dvec3 dir = frame.toWorld(squareToCosineHemisphere({(i + shiftX) / count, y - std::floor(y)}));
+            const glm::dvec3 dir = frame.toWorld(squareToCosineHemisphere(skyVisibilityPoint(i, count, shift)));
             ++skyRays;
             visible += !surface_.occluded(Ray{spawnOrigin(hit, dir), dir}, {0.0, kInfinity});
         }

@@ -2,6 +2,8 @@
 // clear sky as assertions.
 #include "tracer/atmosphere.h"
 
+#include "tracer/scene.h"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -13,10 +15,8 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-glm::dvec3 fromAngles(double azimuthDeg, double elevationDeg) {
-    const double az = azimuthDeg * kPi / 180.0, el = elevationDeg * kPi / 180.0;
-    return {std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el)};
-}
+// A unit direction by compass azimuth and elevation, degrees.
+glm::dvec3 fromAngles(double azimuthDeg, double elevationDeg) { return sunDirection(azimuthDeg, elevationDeg); }
 
 double maxRelativeError(const glm::dvec3& value, const glm::dvec3& reference) {
     double worst = 0.0;

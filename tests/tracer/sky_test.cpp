@@ -4,6 +4,8 @@
 #include "tracer/sky.h"
 #include "tracer/terrain_renderer.h"
 
+#include "tracer/scene.h"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -12,12 +14,9 @@ using namespace terracast;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
-glm::dvec3 fromAngles(double azimuthDeg, double elevationDeg) {
-    const double az = azimuthDeg * kPi / 180.0, el = elevationDeg * kPi / 180.0;
-    return {std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el)};
-}
+// A unit direction by compass azimuth and elevation, degrees.
+glm::dvec3 fromAngles(double azimuthDeg, double elevationDeg) { return sunDirection(azimuthDeg, elevationDeg); }
 
 SkyDescription physical() {
     SkyDescription d;
