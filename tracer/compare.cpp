@@ -21,11 +21,11 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// Traces one method: a timed primary pass, a timed shadow pass over its hits, then shading.
-MethodComparison traceMethod(const HeightGrid& grid, SurfaceMethod method, const TerrainRenderSettings& s) {
+}  // namespace
+
+MethodComparison traceSurface(const HeightGrid& grid, const TerrainSurface& surface, const TerrainRenderSettings& s) {
     MethodComparison m;
-    m.method = method;
-    const TerrainSurface surface(grid, method, s.threads);
+    m.method = surface.method();
     m.buildSeconds = surface.buildSeconds();
     m.memoryBytes = surface.memoryBytes();
     const int w = s.width, h = s.height;
@@ -81,6 +81,14 @@ MethodComparison traceMethod(const HeightGrid& grid, SurfaceMethod method, const
             m.image.set(x, y, shadeTerrainHit(grid, *hits[k], dirs[k], lit[k] == 1, s));
         }
     return m;
+}
+
+namespace {
+
+// Builds one method's surface and traces it.
+MethodComparison traceMethod(const HeightGrid& grid, SurfaceMethod method, const TerrainRenderSettings& s) {
+    const TerrainSurface surface(grid, method, s.threads);
+    return traceSurface(grid, surface, s);
 }
 
 }  // namespace
