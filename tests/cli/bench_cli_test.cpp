@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 using namespace terracast::testing;
@@ -122,14 +123,24 @@ TEST_CASE("CLI: bench skips grids over --max-memory and says what they need", "[
 TEST_CASE("CLI: bench refuses bad options with one line and exit 2", "[cli][bench]") {
     TempDir dir("bench-cli");
     const std::string json = (dir.path() / "never.json").string();
-    for (const std::string args : {"--sizes 100", "--sizes 65,abc", "--sizes 65,", "--sizes 131073", "--threads -1",
-                                   "--max-memory lots", "--real --data /no/such/folder",
-                                   "--sizes 65 --json /no/such/folder/r.json", "--no-such-option"}) {
+    const std::string out = " --json '" + json + "'";
+    // Each refusal names what it refused.
+    const std::pair<std::string, std::string> cases[] = {
+        {"--sizes 100" + out, "--sizes"},
+        {"--sizes 65,abc" + out, "--sizes"},
+        {"--sizes 131073" + out, "--sizes"},
+        {"--threads -1" + out, "--threads"},
+        {"--max-memory lots" + out, "--max-memory"},
+        {"--real --data /no/such/folder" + out, "/no/such/folder"},
+        {"--sizes 65 --json /no/such/folder/r.json", "/no/such/folder"},
+    };
+    for (const auto& [args, named] : cases) {
         INFO(args);
-        const auto r = runTerracast("bench " + args + " --json '" + json + "'");
+        const auto r = runTerracast("bench " + args);
         CHECK(r.exitCode == 2);
         CHECK(lineCount(r.err) == 1);
         CHECK(r.err.rfind("terracast: error: ", 0) == 0);
+        CHECK(r.err.find(named) != std::string::npos);
         CHECK(r.out.empty());
     }
     CHECK_FALSE(std::filesystem::exists(json));
