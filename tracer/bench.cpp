@@ -160,7 +160,7 @@ BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& s) {
                 rs.sun.azimuthDeg = s.sunAzimuthDeg;
                 rs.sun.elevationDeg = s.sunElevationDeg;
                 rs.camera = benchCamera(grid, camera, aspect);
-                MethodComparison m = traceSurface(grid, surface, rs);
+                const MethodComparison m = traceSurface(grid, surface, rs, false);  // rates and hit distances only
                 BenchPass p;
                 p.camera = camera;
                 p.threads = threads;

@@ -23,7 +23,8 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
-MethodComparison traceSurface(const HeightGrid& grid, const TerrainSurface& surface, const TerrainRenderSettings& s) {
+MethodComparison traceSurface(const HeightGrid& grid, const TerrainSurface& surface, const TerrainRenderSettings& s,
+                              bool shade) {
     MethodComparison m;
     m.method = surface.method();
     m.buildSeconds = surface.buildSeconds();
@@ -68,8 +69,13 @@ MethodComparison traceSurface(const HeightGrid& grid, const TerrainSurface& surf
     m.shadowRays = shadowRays;
     m.shadowRaysPerSecond = shadowSeconds > 0.0 ? double(m.shadowRays) / shadowSeconds : 0.0;
 
-    m.image = Film(w, h);
     m.hitT.assign(n, kNaN);
+    if (!shade) {
+        for (size_t k = 0; k < n; ++k)
+            if (hits[k]) m.hitT[k] = hits[k]->t;
+        return m;
+    }
+    m.image = Film(w, h);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const size_t k = size_t(y) * size_t(w) + size_t(x);
