@@ -12,7 +12,7 @@ using namespace terracast;
 
 namespace {
 
-// The mean slope over all cells, in degrees, from each cell's steepest corner-to-corner edge gradient.
+// The mean slope over all cells, in degrees, from the height differences along each cell's south and west edges.
 double meanSlopeDeg(const HeightGrid& g) {
     double sum = 0.0;
     for (int64_t j = 0; j < g.cellsY(); ++j)
