@@ -7,7 +7,9 @@
 #include "loaders/raster_writer.h"
 #include "loaders/scene_assets.h"
 #include "loaders/scene_file.h"
+#include "heightfield/fractal_terrain.h"
 #include "tracer/accuracy.h"
+#include "tracer/bench.h"
 #include "tracer/cancel.h"
 #include "tracer/compare.h"
 #include "tracer/maps.h"
@@ -28,6 +30,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <sstream>
+#include <thread>
 
 namespace terracast {
 
@@ -816,6 +819,227 @@ int runScene(const SceneCommandOptions& o) {
                        stats.reflection, stats.refraction, stats.skyVisibility, stats.skyRays,
                        stats.seconds > 0 ? double(stats.total()) / stats.seconds * 1e-6 : 0.0,
                        humanBytes(peakResidentBytes()));
+        return 0;
+    });
+}
+
+namespace {
+
+// One grid of `bench`: a synthetic fractal of some size, or a DEM file.
+struct BenchJob {
+    std::string name;   // as reported: "synthetic-513" or the file's path
+    int64_t size = 0;   // synthetic: vertices per side; 0 for a file
+    std::string path;   // file: the DEM
+};
+
+// Parses "513,2049,8193" into sizes of 2^n + 1 vertices from 3 to 65537.
+std::vector<int64_t> parseBenchSizes(const std::string& text) {
+    std::vector<int64_t> sizes;
+    std::stringstream in(text);
+    std::string item;
+    const auto bad = [&] {
+        return InputError(fmt::format("--sizes: expected comma-separated grid sizes of 2^n + 1 vertices from 3 to "
+                                      "65537 (such as 513,2049,8193), found '{}'",
+                                      text));
+    };
+    while (std::getline(in, item, ',')) {
+        size_t used = 0;
+        int64_t v = 0;
+        try {
+            v = std::stoll(item, &used);
+        } catch (const std::exception&) {
+            throw bad();
+        }
+        if (used != item.size() || !isFractalTerrainSize(v) || v > 65537) throw bad();
+        sizes.push_back(v);
+    }
+    if (sizes.empty() || (!text.empty() && text.back() == ',')) throw bad();
+    return sizes;
+}
+
+// The DEMs `bench --real` adds: the GDAL rasters of a folder (GeoTIFF, SRTM .hgt), by name. PNG height maps
+// are left out: they carry no cell size or height scale.
+std::vector<std::string> benchRealDems(const std::string& dir) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) throw InputError(fmt::format("--data: '{}' is not a folder", dir));
+    std::vector<std::string> paths;
+    for (const auto& e : fs::directory_iterator(dir, ec)) {
+        const std::string ext = lowerExtension(e.path().string());
+        if (e.is_regular_file(ec) && (ext == ".tif" || ext == ".tiff" || ext == ".hgt")) paths.push_back(e.path().string());
+    }
+    std::sort(paths.begin(), paths.end());
+    if (paths.empty()) throw InputError(fmt::format("--data: no GeoTIFF or .hgt DEM in '{}'", dir));
+    return paths;
+}
+
+std::string benchRatioJson(double primary, double shadow) {
+    return fmt::format("{{\"primary\": {}, \"shadow\": {}}}", jsonNumber(primary), jsonNumber(shadow));
+}
+
+// One grid's object in the bench report: the DESIGN section 8 shape, with the corner camera at the most
+// threads as each method's headline numbers and every pass listed under "passes".
+std::string benchGridJson(const BenchJob& job, const BenchGridResult& r, const BenchSettings& s) {
+    std::string j = fmt::format("{{\"dem\": {}, \"synthetic\": {}, \"width\": {}, \"height\": {}, \"cells\": {}, "
+                                "\"image_width\": {}, \"image_height\": {}, \"rays\": {}, \"reference\": \"{}\", "
+                                "\"skipped\": false,\n  \"methods\": [",
+                                jsonString(job.name), job.size > 0 ? "true" : "false", r.width, r.height, r.cells,
+                                s.width, s.height, int64_t(s.width) * s.height,
+                                s.methods.empty() ? "" : benchMethodName(s.methods.front()));
+    for (size_t k = 0; k < r.methods.size(); ++k) {
+        const auto& m = r.methods[k];
+        j += k ? "," : "";
+        if (m.skipped) {
+            j += fmt::format("\n   {{\"name\": \"{}\", \"skipped\": true, \"memory_needed_bytes\": {}}}",
+                             benchMethodName(m.method), jsonNumber(m.neededBytes));
+            continue;
+        }
+        const BenchPass* head = nullptr;
+        for (const auto& p : m.passes)
+            if (p.camera == BenchCamera::Corner && (!head || p.threads > head->threads)) head = &p;
+        if (!head && !m.passes.empty()) head = &m.passes.front();
+        const BenchPass none{};
+        if (!head) head = &none;
+        j += fmt::format("\n   {{\"name\": \"{}\", \"skipped\": false, \"build_s\": {}, \"memory_bytes\": {}, "
+                         "\"peak_memory_bytes\": {}, \"bytes_per_cell\": {}, \"peak_bytes_per_cell\": {}, "
+                         "\"hit_agreement\": {}, \"threads\": {}, \"primary_rays_per_s\": {}, \"shadow_rays_per_s\": {}, "
+                         "\"ratio_to_embree\": {},\n    \"passes\": [",
+                         benchMethodName(m.method), jsonNumber(m.buildSeconds), m.memoryBytes, m.peakMemoryBytes,
+                         jsonNumber(m.bytesPerCell), jsonNumber(m.peakBytesPerCell), jsonNumber(m.hitAgreement),
+                         head->threads, jsonNumber(head->primaryRaysPerSecond), jsonNumber(head->shadowRaysPerSecond),
+                         benchRatioJson(head->ratioToEmbreePrimary, head->ratioToEmbreeShadow));
+        for (size_t q = 0; q < m.passes.size(); ++q) {
+            const auto& p = m.passes[q];
+            j += fmt::format("{}\n     {{\"camera\": \"{}\", \"threads\": {}, \"primary_rays\": {}, \"shadow_rays\": {}, "
+                             "\"primary_rays_per_s\": {}, \"shadow_rays_per_s\": {}, \"ratio_to_embree\": {}}}",
+                             q ? "," : "", benchCameraName(p.camera), p.threads, p.primaryRays, p.shadowRays,
+                             jsonNumber(p.primaryRaysPerSecond), jsonNumber(p.shadowRaysPerSecond),
+                             benchRatioJson(p.ratioToEmbreePrimary, p.ratioToEmbreeShadow));
+        }
+        j += "]}";
+    }
+    return j + "]}";
+}
+
+}  // namespace
+
+int runBench(const BenchCommandOptions& o) {
+    return guarded([&] {
+        std::vector<int64_t> sizes = parseBenchSizes(o.sizes);
+        if (o.large && std::find(sizes.begin(), sizes.end(), int64_t(32769)) == sizes.end()) sizes.push_back(32769);
+        if (o.threads < 0) throw InputError(fmt::format("--threads: expected 0 (all cores) or more, found {}", o.threads));
+        if (!o.json.empty()) {
+            namespace fs = std::filesystem;
+            std::error_code ec;
+            const auto dir = fs::path(o.json).parent_path();
+            if (!dir.empty() && !fs::is_directory(dir, ec))
+                throw InputError(fmt::format("{}: output folder '{}' does not exist", o.json, dir.string()));
+        }
+        std::vector<BenchJob> jobs;
+        for (int64_t size : sizes) jobs.push_back({fmt::format("synthetic-{}", size), size, ""});
+        if (o.real)
+            for (const auto& path : benchRealDems(o.dataDir.empty() ? std::string(TERRACAST_DATA_DIR) : o.dataDir))
+                jobs.push_back({path, 0, path});
+
+        const int hardware = std::max(1, int(std::thread::hardware_concurrency()));
+        const int most = o.threads > 0 ? o.threads : hardware;
+        BenchSettings settings;
+        settings.threadCounts = most > 1 ? std::vector<int>{1, most} : std::vector<int>{1};
+        const double limit = o.maxMemoryBytes > 0.0 ? o.maxMemoryBytes : defaultMemoryLimitBytes();
+        // Per pixel while a pass runs: its hits, directions, shadow verdicts, picture and hit distances, plus
+        // the first method's hit distances kept for the agreement.
+        const double passBytes = double(settings.width) * settings.height *
+                                 double(sizeof(std::optional<HeightFieldHit>) + sizeof(glm::dvec3) + 1 + 12 + 8 + 8);
+        const bool terminal = isatty(fileno(stderr));
+
+        fmt::print("terracast bench: {} x {} camera rays per view (corner: south-west, 30 degrees down; grazing: above "
+                   "the highest peak, 8 degrees down), sun at azimuth {:g}, elevation {:g} degrees, one shadow ray per "
+                   "hit facing it; {} thread{} (of {}); FTZ/DAZ on for every method\n",
+                   settings.width, settings.height, settings.sunAzimuthDeg, settings.sunElevationDeg,
+                   most > 1 ? fmt::format("1 and {}", most) : "1", most > 1 ? "s" : "", hardware);
+        std::string json = fmt::format("{{\"image_width\": {}, \"image_height\": {}, \"sun_azimuth_deg\": {}, "
+                                       "\"sun_elevation_deg\": {}, \"hardware_threads\": {}, \"threads\": [{}],\n \"grids\": [",
+                                       settings.width, settings.height, jsonNumber(settings.sunAzimuthDeg),
+                                       jsonNumber(settings.sunElevationDeg), hardware,
+                                       most > 1 ? fmt::format("1, {}", most) : "1");
+        const auto start = std::chrono::steady_clock::now();
+        for (size_t g = 0; g < jobs.size(); ++g) {
+            const BenchJob& job = jobs[g];
+            json += g ? ",\n " : "\n ";
+            if (job.size > 0) {
+                // The grid alone (float32 heights and the pyramid) must fit with one pass's buffers.
+                const double need = double(fractalTerrainBytes(job.size)) + passBytes;
+                if (need > limit) {
+                    fmt::print("\n{} ({} x {} vertices): skipped: needs about {} (grid {}), more than the {} limit "
+                               "(--max-memory)\n",
+                               job.name, job.size, job.size, humanBytes(need),
+                               humanBytes(double(fractalTerrainBytes(job.size))), humanBytes(limit));
+                    json += fmt::format("{{\"dem\": {}, \"synthetic\": true, \"width\": {}, \"height\": {}, \"cells\": {}, "
+                                        "\"skipped\": true, \"memory_needed_bytes\": {}, \"methods\": []}}",
+                                        jsonString(job.name), job.size, job.size, (job.size - 1) * (job.size - 1),
+                                        jsonNumber(need));
+                    continue;
+                }
+            }
+            if (terminal) fmt::print(stderr, "\rbench: {}: making the grid{:30}", job.name, "");
+            const auto made = std::chrono::steady_clock::now();
+            HeightGrid grid;
+            if (job.size > 0) {
+                FractalTerrainOptions fo;
+                fo.size = job.size;
+                fo.seed = o.seed;
+                grid = fractalTerrain(fo);
+            } else {
+                DemOptions dem;
+                dem.path = job.path;
+                dem.maxMemoryBytes = o.maxMemoryBytes;
+                grid = std::move(load(dem).grid);
+            }
+            const double makeSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - made).count();
+
+            settings.refuse = [&](BenchMethod m) -> std::optional<double> {
+                const double need = double(grid.memoryBytes()) + passBytes + embreeBytesEstimate(benchSurfaceMethod(m), grid);
+                if (need > limit) return need;
+                return std::nullopt;
+            };
+            if (terminal)
+                settings.onStep = [&](const std::string& step) {
+                    fmt::print(stderr, "\rbench: {} ({} of {}): {}{:20}", job.name, g + 1, jobs.size(), step, "");
+                };
+            const BenchGridResult r = benchGrid(grid, settings);
+            if (terminal) fmt::print(stderr, "\r{:100}\r", "");
+
+            fmt::print("\n{} ({} x {} vertices, {} cells of {:.4g} x {:.4g} m, heights {:.0f} to {:.0f} m; {} in {:.2f} s)\n",
+                       job.name, grid.width(), grid.height(), r.cells, grid.cellSizeXM(), grid.cellSizeYM(),
+                       grid.minHeightM(), grid.maxHeightM(), job.size > 0 ? "made" : "loaded", makeSeconds);
+            fmt::print("{:<14} {:>8} {:>8} {:>8} {:>9}  {:<8} {:>3} {:>10} {:>10} {:>7} {:>7}\n", "method", "build s",
+                       "B/cell", "peak B", "agreement", "camera", "thr", "prim Mr/s", "shad Mr/s", "x prim", "x shad");
+            for (const auto& m : r.methods) {
+                if (m.skipped) {
+                    fmt::print("{:<14} skipped: needs about {}, more than the {} limit (--max-memory)\n",
+                               benchMethodName(m.method), humanBytes(m.neededBytes), humanBytes(limit));
+                    continue;
+                }
+                for (size_t q = 0; q < m.passes.size(); ++q) {
+                    const auto& p = m.passes[q];
+                    const std::string head =
+                        q == 0 ? fmt::format("{:<14} {:>8.3f} {:>8.1f} {:>8.1f} {:>9.6f}", benchMethodName(m.method),
+                                             m.buildSeconds, m.bytesPerCell, m.peakBytesPerCell, m.hitAgreement)
+                               : fmt::format("{:<14} {:>8} {:>8} {:>8} {:>9}", "", "", "", "", "");
+                    fmt::print("{}  {:<8} {:>3} {:>10.3f} {:>10.3f} {:>7.2f} {:>7.2f}\n", head, benchCameraName(p.camera),
+                               p.threads, p.primaryRaysPerSecond * 1e-6, p.shadowRaysPerSecond * 1e-6,
+                               p.ratioToEmbreePrimary, p.ratioToEmbreeShadow);
+                }
+            }
+            json += benchGridJson(job, r, settings);
+        }
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        fmt::print("\n({:.1f} s in all, peak memory {}; agreement: share of corner-camera rays with {}'s hit/miss "
+                   "verdict; x prim / x shad: rays per second over embree's in the same pass)\n",
+                   seconds, humanBytes(peakResidentBytes()),
+                   settings.methods.empty() ? "" : benchMethodName(settings.methods.front()));
+        // The report goes last: its presence says the run completed.
+        if (!o.json.empty()) writeTextFile(o.json, json + "\n ]}\n");
         return 0;
     });
 }

@@ -145,4 +145,18 @@ bool parseSize(const std::string& text, int& width, int& height);
 // Parses "A,B" into two finite numbers; returns false on malformed input.
 bool parsePair(const std::string& text, double& a, double& b);
 
+// `terracast bench`: the direct tracer against Embree on synthetic fractal grids (and optionally the sample
+// DEMs), two cameras, one shadow ray per hit, at 1 thread and at `threads`.
+struct BenchCommandOptions {
+    std::string sizes = "513,2049,8193";  // comma-separated synthetic grid sizes, each 2^n + 1 vertices
+    int threads = 0;                      // the thread count measured beside 1; 0 = all cores
+    std::string json;                     // report file; empty = none
+    bool large = false;                   // add a 32769 x 32769 synthetic grid
+    bool real = false;                    // add the DEMs of `dataDir`
+    std::string dataDir;                  // folder of real DEMs; empty = the source tree's data-samples
+    uint64_t seed = 1;                    // seed of the synthetic terrain
+    double maxMemoryBytes = 0.0;          // grids and methods estimated to need more are skipped; 0 = 80% of RAM
+};
+int runBench(const BenchCommandOptions& options);
+
 }  // namespace terracast

@@ -201,6 +201,26 @@ int main(int argc, char** argv) {
     compareCmd->add_option("--out-dir", compare.outDir,
                            "Write each method's image, its difference heat map and tradeoff.svg to this folder");
 
+    BenchCommandOptions bench;
+    auto* benchCmd = app.add_subcommand(
+        "bench", "Measure the direct tracer against Embree on synthetic fractal grids (and the sample DEMs)");
+    benchCmd->add_option("--sizes", bench.sizes, "Synthetic grid sizes, 2^n + 1 vertices each (default 513,2049,8193)");
+    benchCmd->add_option("--threads", bench.threads,
+                         "Thread count measured beside 1 thread, 0 = all cores (default 0)")
+        ->check(CLI::Range(0, 4096));
+    benchCmd->add_option("--json", bench.json, "Write the report as JSON to this file");
+    benchCmd->add_flag("--large", bench.large, "Add a 32769 x 32769 synthetic grid (skipped when over --max-memory)");
+    benchCmd->add_flag("--real", bench.real, "Add the GeoTIFF and .hgt DEMs of --data");
+    benchCmd->add_option("--data", bench.dataDir, "Folder of the DEMs --real adds (default: the sample DEMs)");
+    benchCmd->add_option("--seed", bench.seed, "Seed of the synthetic terrain (default 1)");
+    benchCmd->add_option_function<std::string>(
+        "--max-memory",
+        [&bench](const std::string& text) {
+            if (!parseByteCount(text, bench.maxMemoryBytes))
+                throw CLI::ValidationError("--max-memory", "expected a size such as 512M or 8G, found '" + text + "'");
+        },
+        "Skip grids and methods estimated to need more memory than this, e.g. 8G (default: 80% of physical memory)");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -284,6 +304,7 @@ int main(int argc, char** argv) {
         }
         return runCompare(compare);
     }
+    if (*benchCmd) return runBench(bench);
     if (*renderCmd) {
         if (!parseViewOptions(size, sun, render.width, render.height, render.sunAzimuthDeg, render.sunElevationDeg))
             return 2;

@@ -21,11 +21,12 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// Traces one method: a timed primary pass, a timed shadow pass over its hits, then shading.
-MethodComparison traceMethod(const HeightGrid& grid, SurfaceMethod method, const TerrainRenderSettings& s) {
+}  // namespace
+
+MethodComparison traceSurface(const HeightGrid& grid, const TerrainSurface& surface, const TerrainRenderSettings& s,
+                              bool shade) {
     MethodComparison m;
-    m.method = method;
-    const TerrainSurface surface(grid, method, s.threads);
+    m.method = surface.method();
     m.buildSeconds = surface.buildSeconds();
     m.memoryBytes = surface.memoryBytes();
     const int w = s.width, h = s.height;
@@ -68,8 +69,13 @@ MethodComparison traceMethod(const HeightGrid& grid, SurfaceMethod method, const
     m.shadowRays = shadowRays;
     m.shadowRaysPerSecond = shadowSeconds > 0.0 ? double(m.shadowRays) / shadowSeconds : 0.0;
 
-    m.image = Film(w, h);
     m.hitT.assign(n, kNaN);
+    if (!shade) {
+        for (size_t k = 0; k < n; ++k)
+            if (hits[k]) m.hitT[k] = hits[k]->t;
+        return m;
+    }
+    m.image = Film(w, h);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const size_t k = size_t(y) * size_t(w) + size_t(x);
@@ -81,6 +87,14 @@ MethodComparison traceMethod(const HeightGrid& grid, SurfaceMethod method, const
             m.image.set(x, y, shadeTerrainHit(grid, *hits[k], dirs[k], lit[k] == 1, s));
         }
     return m;
+}
+
+namespace {
+
+// Builds one method's surface and traces it.
+MethodComparison traceMethod(const HeightGrid& grid, SurfaceMethod method, const TerrainRenderSettings& s) {
+    const TerrainSurface surface(grid, method, s.threads);
+    return traceSurface(grid, surface, s);
 }
 
 }  // namespace

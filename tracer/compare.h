@@ -50,6 +50,13 @@ struct CompareReport {
     std::vector<MethodComparison> methods;
 };
 
+// Traces one built surface the way compareSurfaces traces each method: a timed pass of camera rays, a timed
+// pass of one shadow ray per hit facing the sun, then shading (skipped, leaving the picture empty, when `shade`
+// is false). Fills in everything but the comparisons with the reference and Embree (agreement, errors, image
+// RMSE and PSNR, ratios).
+MethodComparison traceSurface(const HeightGrid& grid, const TerrainSurface& surface, const TerrainRenderSettings& settings,
+                              bool shade = true);
+
 // Traces and measures every method of `settings` (the reference is added when missing).
 CompareReport compareSurfaces(const HeightGrid& grid, const CompareSettings& settings);
 

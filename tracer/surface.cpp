@@ -54,8 +54,8 @@ const std::vector<SurfaceMethod>& compareMethods() {
     return methods;
 }
 
-TerrainSurface::TerrainSurface(const HeightGrid& grid, SurfaceMethod method, int threads)
-    : grid_(grid), method_(method), cell_(toCellMethod(method)) {
+TerrainSurface::TerrainSurface(const HeightGrid& grid, SurfaceMethod method, int threads, Traversal traversal)
+    : grid_(grid), method_(method), cell_(toCellMethod(method)), traversal_(traversal) {
     if (method == SurfaceMethod::Embree)
         embree_ = std::make_unique<EmbreeTerrain>(grid, EmbreeLayout::TriangleMesh, threads);
     if (method == SurfaceMethod::EmbreeGrid) embree_ = std::make_unique<EmbreeTerrain>(grid, EmbreeLayout::Grid, threads);
@@ -63,16 +63,21 @@ TerrainSurface::TerrainSurface(const HeightGrid& grid, SurfaceMethod method, int
 
 std::optional<HeightFieldHit> TerrainSurface::intersect(const Ray& ray, Interval interval) const {
     if (embree_) return embree_->intersect(ray, interval);
-    return terracast::intersect(grid_, ray, interval, cell_);
+    return terracast::intersect(grid_, ray, interval, cell_, nullptr, traversal_);
 }
 
 bool TerrainSurface::occluded(const Ray& ray, Interval interval) const {
     if (embree_) return embree_->occluded(ray, interval);
-    return terracast::occluded(grid_, ray, interval, cell_);
+    return terracast::occluded(grid_, ray, interval, cell_, nullptr, traversal_);
 }
 
 int64_t TerrainSurface::memoryBytes() const {
     if (embree_) return embree_->memoryBytes();
+    return int64_t(grid_.memoryBytes());
+}
+
+int64_t TerrainSurface::peakMemoryBytes() const {
+    if (embree_) return embree_->peakMemoryBytes();
     return int64_t(grid_.memoryBytes());
 }
 

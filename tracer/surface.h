@@ -35,22 +35,28 @@ const std::vector<SurfaceMethod>& compareMethods();
 class TerrainSurface {
 public:
     // `threads` bounds Embree's build threads (0 = all cores); the direct tracer builds nothing here.
-    TerrainSurface(const HeightGrid& grid, SurfaceMethod method, int threads = 0);
+    // `traversal` picks how the direct tracer reaches cells (the flat walk is for comparisons); Embree ignores it.
+    TerrainSurface(const HeightGrid& grid, SurfaceMethod method, int threads = 0,
+                   Traversal traversal = Traversal::Pyramid);
 
     std::optional<HeightFieldHit> intersect(const Ray& ray, Interval interval) const;
     bool occluded(const Ray& ray, Interval interval) const;
 
     SurfaceMethod method() const { return method_; }
+    Traversal traversal() const { return traversal_; }
     // Seconds spent building acceleration data: Embree's BVH, or the grid's maximum pyramid.
     double buildSeconds() const { return embree_ ? embree_->buildSeconds() : grid_.pyramidBuildSeconds(); }
     // Bytes of the surface's own data: the grid for the direct tracer; Embree's own count for Embree
     // (it copies the vertices).
     int64_t memoryBytes() const;
+    // The most bytes held at once while building: Embree's peak; the grid's bytes for the direct tracer.
+    int64_t peakMemoryBytes() const;
 
 private:
     const HeightGrid& grid_;
     SurfaceMethod method_;
     CellMethod cell_ = CellMethod::Bilinear;
+    Traversal traversal_ = Traversal::Pyramid;
     std::unique_ptr<EmbreeTerrain> embree_;
 };
 

@@ -1,0 +1,120 @@
+// The bench library: denormals are flushed on every thread that traces, the grazing camera stands just above
+// the highest peak looking 8 degrees down, and a grid's report holds every method, refused ones as skipped.
+#include "heightfield/fractal_terrain.h"
+#include "tracer/bench.h"
+
+#include <catch2/catch.hpp>
+
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <mutex>
+#include <set>
+#include <thread>
+#include <cmath>
+#include <vector>
+
+using namespace terracast;
+
+TEST_CASE("bench: FTZ and DAZ hold on every thread inside the scope, and the caller's modes come back", "[tracer][bench]") {
+    const bool before = denormalsFlushed();
+    std::atomic<int> unflushed{0}, tasks{0};
+    std::mutex lock;
+    std::set<std::thread::id> threads;
+    {
+        const FlushDenormalsScope scope;
+        CHECK(denormalsFlushed());
+        const tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
+        tbb::parallel_for(0, 2000, [&](int) {
+            volatile double spin = 0.0;
+            for (int k = 0; k < 2000; ++k) spin = spin + 1.0;  // long enough for a worker to join
+            unflushed += denormalsFlushed() ? 0 : 1;
+            ++tasks;
+            const std::lock_guard<std::mutex> hold(lock);
+            threads.insert(std::this_thread::get_id());
+        });
+        // A denormal operand reads as zero under DAZ.
+        volatile float tiny = 1e-40f;
+        CHECK(tiny * 1.0f == 0.0f);
+    }
+    CHECK(tasks == 2000);
+    // The check means something only if a worker took part.
+    CHECK(threads.size() >= std::min<size_t>(2, std::thread::hardware_concurrency()));
+    CHECK(unflushed == 0);
+    CHECK(denormalsFlushed() == before);
+}
+
+TEST_CASE("bench: the grazing camera stands just above the highest peak and looks 8 degrees down", "[tracer][bench]") {
+    FractalTerrainOptions o;
+    o.size = 65;
+    const HeightGrid g = fractalTerrain(o);
+    const PinholeCamera cam = benchCamera(g, BenchCamera::Grazing, 4.0 / 3.0);
+    const double relief = double(g.maxHeightM()) - g.minHeightM();
+    CHECK(cam.eyeM.z > g.maxHeightM());
+    CHECK(cam.eyeM.z < g.maxHeightM() + 0.05 * relief);
+    // The eye is over a vertex holding the maximum height.
+    const double fi = cam.eyeM.x / g.cellSizeXM(), fj = cam.eyeM.y / g.cellSizeYM();
+    REQUIRE(fi == std::round(fi));
+    REQUIRE(fj == std::round(fj));
+    CHECK(g.at(int64_t(fi), int64_t(fj)) == g.maxHeightM());
+    const glm::dvec3 forward = glm::normalize(cam.lookAtM - cam.eyeM);
+    CHECK(std::asin(-forward.z) * 180.0 / 3.14159265358979323846 == Approx(8.0));
+    // Heading into the grid: towards its centre.
+    const glm::dvec2 toCentre{0.5 * g.extentXM() - cam.eyeM.x, 0.5 * g.extentYM() - cam.eyeM.y};
+    CHECK(glm::dot(glm::dvec2(forward), toCentre) > 0.0);
+}
+
+TEST_CASE("bench: one grid, every method, refused methods skipped, ratios to Embree's own passes", "[tracer][bench]") {
+    FractalTerrainOptions o;
+    o.size = 33;
+    const HeightGrid g = fractalTerrain(o);
+    BenchSettings s;
+    s.width = 64;
+    s.height = 48;
+    s.threadCounts = {1, 2};
+    s.refuse = [](BenchMethod m) -> std::optional<double> {
+        if (m == BenchMethod::EmbreeGrid) return 1e12;
+        return std::nullopt;
+    };
+    const BenchGridResult r = benchGrid(g, s);
+    CHECK(r.cells == 32 * 32);
+    REQUIRE(r.methods.size() == benchMethods().size());
+    for (size_t k = 0; k < r.methods.size(); ++k) {
+        const auto& m = r.methods[k];
+        INFO(benchMethodName(m.method));
+        CHECK(m.method == benchMethods()[k]);
+        if (m.method == BenchMethod::EmbreeGrid) {
+            CHECK(m.skipped);
+            CHECK(m.neededBytes == 1e12);
+            CHECK(m.passes.empty());
+            continue;
+        }
+        CHECK_FALSE(m.skipped);
+        REQUIRE(m.passes.size() == 4);  // two cameras by two thread counts
+        CHECK(m.passes[0].camera == BenchCamera::Corner);
+        CHECK(m.passes[1].threads == 2);
+        CHECK(m.passes[2].camera == BenchCamera::Grazing);
+        for (const auto& p : m.passes) {
+            CHECK(p.primaryRays == 64 * 48);
+            CHECK(p.primaryRaysPerSecond > 0.0);
+            CHECK(std::isfinite(p.ratioToEmbreePrimary));
+            if (m.method == BenchMethod::Embree) CHECK(p.ratioToEmbreePrimary == 1.0);
+        }
+        if (m.method == BenchMethod::BilinearFlat) CHECK(m.hitAgreement == 1.0);
+        if (m.method == BenchMethod::Embree) CHECK(m.bytesPerCell > 50.0);
+        else CHECK(m.bytesPerCell < 10.0);
+    }
+    // The flat walk and the pyramid hit the same cells, so they cast the same shadow rays.
+    for (size_t q = 0; q < 4; ++q) CHECK(r.methods[0].passes[q].shadowRays == r.methods[1].passes[q].shadowRays);
+}
+
+TEST_CASE("bench: method names round-trip and map to their surfaces", "[tracer][bench]") {
+    for (BenchMethod m : benchMethods()) CHECK(parseBenchMethod(benchMethodName(m)) == m);
+    CHECK_FALSE(parseBenchMethod("nearest"));
+    CHECK(benchTraversal(BenchMethod::BilinearFlat) == Traversal::Flat);
+    CHECK(benchTraversal(BenchMethod::Bilinear) == Traversal::Pyramid);
+    CHECK(benchSurfaceMethod(BenchMethod::BilinearFlat) == SurfaceMethod::Bilinear);
+    CHECK(benchSurfaceMethod(BenchMethod::EmbreeGrid) == SurfaceMethod::EmbreeGrid);
+}

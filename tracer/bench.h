@@ -1,0 +1,117 @@
+// `bench`: the direct tracer against Embree on one grid, under fixed cameras and a low sun, at several thread
+// counts. Each method traces the same camera rays and one shadow ray per hit facing the sun; every pass is
+// timed on its own, so rays per second compare like with like.
+#pragma once
+
+#include "heightfield/height_grid.h"
+#include "heightfield/traversal.h"
+#include "tracer/camera.h"
+#include "tracer/surface.h"
+
+#include <tbb/task_scheduler_observer.h>
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace terracast {
+
+// The methods `bench` measures.
+enum class BenchMethod {
+    Bilinear,      // direct, exact patch, through the maximum pyramid
+    BilinearFlat,  // the same, walking every cell (the pyramid's ablation)
+    Triangles,     // direct, two triangles per cell, through the pyramid
+    Embree,        // Embree triangle mesh
+    EmbreeGrid,    // Embree grid geometry
+};
+
+// "bilinear", "bilinear-flat", "triangles", "embree", "embree-grid".
+const char* benchMethodName(BenchMethod method);
+std::optional<BenchMethod> parseBenchMethod(std::string_view name);
+// All of them, in report order.
+const std::vector<BenchMethod>& benchMethods();
+// The surface and traversal a method traces with.
+SurfaceMethod benchSurfaceMethod(BenchMethod method);
+Traversal benchTraversal(BenchMethod method);
+
+// The two views of every grid.
+enum class BenchCamera {
+    Corner,   // from outside the south-west corner, 30 degrees down, framing the whole grid (autoCamera)
+    Grazing,  // just above the highest vertex, looking 8 degrees down towards the grid's centre
+};
+const char* benchCameraName(BenchCamera camera);
+// The pinhole camera of a view of `grid` for a film of the given aspect ratio (width / height).
+PinholeCamera benchCamera(const HeightGrid& grid, BenchCamera camera, double aspect);
+
+// While alive, flushes denormals to zero (FTZ and DAZ in MXCSR) on the calling thread and on every TBB thread
+// that enters its arena, so the direct tracer and Embree run under the same floating-point modes. (TBB also
+// hands the calling thread's modes to the tasks of algorithms it starts; the observer covers threads that
+// join otherwise.) The calling thread's modes are restored on destruction. A no-op where SSE is absent.
+class FlushDenormalsScope : public tbb::task_scheduler_observer {
+public:
+    FlushDenormalsScope();
+    ~FlushDenormalsScope() override;
+    FlushDenormalsScope(const FlushDenormalsScope&) = delete;
+    FlushDenormalsScope& operator=(const FlushDenormalsScope&) = delete;
+    void on_scheduler_entry(bool isWorker) override;
+
+private:
+    unsigned savedCsr_ = 0;
+};
+
+// True when the calling thread flushes denormal results and operands to zero.
+bool denormalsFlushed();
+
+struct BenchSettings {
+    int width = 1024;                                   // pixels
+    int height = 768;                                   // pixels
+    double sunAzimuthDeg = 315.0;                       // clockwise from north
+    double sunElevationDeg = 20.0;                      // above the horizon
+    std::vector<int> threadCounts{1, 2};                // each pass is run at each of these
+    std::vector<BenchCamera> cameras{BenchCamera::Corner, BenchCamera::Grazing};
+    std::vector<BenchMethod> methods = benchMethods();  // measured in this order
+    // Asked before a method is built: the bytes it would need when it cannot run here, or none when it can.
+    std::function<std::optional<double>(BenchMethod)> refuse;
+    // Called before each build and each pass with a short description (for progress).
+    std::function<void(const std::string& step)> onStep;
+};
+
+// One timed pass: one camera, one thread count.
+struct BenchPass {
+    BenchCamera camera = BenchCamera::Corner;
+    int threads = 1;
+    int64_t primaryRays = 0;
+    int64_t shadowRays = 0;             // one per primary hit facing the sun
+    double primaryRaysPerSecond = 0.0;
+    double shadowRaysPerSecond = 0.0;
+    double ratioToEmbreePrimary = 0.0;  // over Embree's rays/s in the same pass of this run; NaN without Embree
+    double ratioToEmbreeShadow = 0.0;
+};
+
+struct BenchMethodResult {
+    BenchMethod method = BenchMethod::Bilinear;
+    bool skipped = false;          // refused by settings.refuse; nothing below is measured
+    double neededBytes = 0.0;      // when skipped: what it would have needed
+    double buildSeconds = 0.0;     // the maximum pyramid, or Embree's scene (buffers and BVH)
+    int64_t memoryBytes = 0;       // kept for tracing: the grid with its pyramid, or Embree's own bytes
+    int64_t peakMemoryBytes = 0;   // the most held at once while building
+    double bytesPerCell = 0.0;     // memoryBytes over the grid's cells
+    double peakBytesPerCell = 0.0; // peakMemoryBytes over the grid's cells
+    double hitAgreement = 0.0;     // share of the first pass's camera rays with the first method's hit/miss verdict
+    std::vector<BenchPass> passes; // cameras outer, thread counts inner, as in settings
+};
+
+struct BenchGridResult {
+    int64_t width = 0;  // vertices
+    int64_t height = 0;
+    int64_t cells = 0;
+    std::vector<BenchMethodResult> methods;
+};
+
+// Builds and times every method of `settings` on `grid`, each pass under FlushDenormalsScope.
+BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& settings);
+
+}  // namespace terracast
