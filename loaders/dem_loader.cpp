@@ -35,6 +35,9 @@ constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
 // Per vertex while loading and tracing: the height, the nodata flag, the cell flag, the maximum pyramid
 // (a third of a float per cell) and the reader's float copy of the raster row data.
 constexpr double kBytesPerVertex = sizeof(float) + 2 * sizeof(uint8_t) + sizeof(float) / 3.0 + sizeof(float);
+// Heights farther than this from sea level (1000 km; the Earth's relief spans 20 km) are refused as a wrong
+// unit, scale or undeclared nodata: tracing them would lose all float precision on real terrain.
+constexpr double kMaxAbsHeightM = 1.0e6;
 constexpr double kLargeExtentDeg = 5.0;                              // wider geographic extents get a warning
 constexpr double kFootM = 0.3048;                                    // international foot
 constexpr double kUsSurveyFootM = 1200.0 / 3937.0;                   // US survey foot
@@ -57,7 +60,8 @@ void checkIsFile(const std::string& path) {
 
 // Rejects rasters without a cell, and rasters too large to hold, before anything is allocated.
 void checkRasterSize(const std::string& path, int64_t width, int64_t height, double maxBytes) {
-    if (width <= 0 || height <= 0) throw InputError(fmt::format("{}: raster is {} x {}", path, width, height));
+    if (width <= 0 || height <= 0)
+        throw InputError(fmt::format("{}: raster is {} x {}, with no sample to trace", path, width, height));
     if (width < 2 || height < 2)
         throw InputError(fmt::format("{}: {} x {} raster has no cell to trace (need at least 2 x 2)", path, width,
                                      height));
@@ -173,8 +177,13 @@ Lattice georeference(const std::string& path, GDALDataset& dataset, const DemLoa
         geo.geographic = true;
         const double degreesPerUnit = srs->GetAngularUnits(nullptr) * 180.0 / std::numbers::pi;
         const double centreLatDeg = (gt[3] + 0.5 * static_cast<double>(height) * gt[5]) * degreesPerUnit;
-        if (!(std::abs(centreLatDeg) < 90.0))
-            throw InputError(fmt::format("{}: centre latitude {} is outside -90..90 degrees", path, centreLatDeg));
+        // Meridians converge at a pole, so no flat local frame holds a raster that reaches one.
+        const double edgeLat0 = gt[3] * degreesPerUnit, edgeLat1 = (gt[3] + static_cast<double>(height) * gt[5]) * degreesPerUnit;
+        if (!(std::max(std::abs(edgeLat0), std::abs(edgeLat1)) < 90.0))
+            throw InputError(fmt::format("{}: latitudes {:g} .. {:g} reach or cross a pole, which a local metric frame "
+                                         "cannot hold; expected a raster within -90..90 degrees (reproject polar data "
+                                         "first, e.g. gdalwarp -t_srs EPSG:3413 or EPSG:3031)",
+                                         path, std::min(edgeLat0, edgeLat1), std::max(edgeLat0, edgeLat1)));
         geo.centreLatDeg = centreLatDeg;
         const double extentXDeg = static_cast<double>(width) * pixelX * degreesPerUnit;
         const double extentYDeg = static_cast<double>(height) * pixelY * degreesPerUnit;
@@ -201,8 +210,9 @@ Lattice georeference(const std::string& path, GDALDataset& dataset, const DemLoa
     if (std::isinf(heightM))
         throw InputError(fmt::format("{}: height at column {}, row {} is {}infinite (not declared as nodata)", path,
                                      column, row, heightM < 0 ? "minus " : ""));
-    throw InputError(fmt::format("{}: height at column {}, row {} is {:g} m, beyond the float32 range", path, column,
-                                 row, heightM));
+    throw InputError(fmt::format("{}: height at column {}, row {} is {:g} m, expected within {:g} m of sea level "
+                                 "(wrong unit or scale, or an undeclared nodata value?)",
+                                 path, column, row, heightM, kMaxAbsHeightM));
 }
 
 // Loads band 1 of any raster GDAL can open.
@@ -280,7 +290,8 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options) {
                 }
                 const double heightM = raw * metresPerRaw + metresOffset;
                 const auto heightF = static_cast<float>(heightM);
-                if (!std::isfinite(heightF)) throwBadHeight(path, column, row, heightM);
+                if (!std::isfinite(heightF) || std::abs(heightM) > kMaxAbsHeightM)
+                    throwBadHeight(path, column, row, heightM);
                 heightsM[index] = heightF;
             }
         }
@@ -294,14 +305,16 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options) {
 
 // Walks the PNG chunk layout (signature, then length, type, data and CRC per chunk, up to IEND) without
 // decoding anything, so that a truncated file gets a one-line InputError: OpenImageIO leaves libpng's default
-// error handler in place, which prints to stderr. Files that are not PNG at all are left for OpenImageIO.
+// error handler in place, which prints to stderr. A file named .png without the PNG signature is refused here.
 void checkPngIsComplete(const std::string& path) {
     constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
     std::error_code ec;
     const uint64_t size = std::filesystem::file_size(path, ec);
     std::ifstream in(path, std::ios::binary);
     unsigned char bytes[8] = {};
-    if (ec || !in.read(reinterpret_cast<char*>(bytes), 8) || !std::equal(bytes, bytes + 8, kSignature)) return;
+    if (ec || !in.read(reinterpret_cast<char*>(bytes), 8)) return;
+    if (!std::equal(bytes, bytes + 8, kSignature))
+        throw InputError(path + ": not a PNG file (its first 8 bytes are not the PNG signature)");
     for (uint64_t position = 8;;) {
         if (position + 8 > size || !in.seekg(static_cast<std::streamoff>(position)) ||
             !in.read(reinterpret_cast<char*>(bytes), 8))
@@ -313,6 +326,17 @@ void checkPngIsComplete(const std::string& path) {
         if (end > size)
             throw InputError(fmt::format("{}: truncated PNG ({} chunk at byte {} ends at byte {}, file has {})", path,
                                          type, position, end, size));
+        if (position == 8 && type == "IHDR" && length >= 8) {
+            // The header's size, read here so that a 0 x 0 image gets the same message as any other raster.
+            unsigned char header[8] = {};
+            if (in.read(reinterpret_cast<char*>(header), 8)) {
+                const auto be32 = [](const unsigned char* b) {
+                    return int64_t{b[0]} << 24 | int64_t{b[1]} << 16 | int64_t{b[2]} << 8 | int64_t{b[3]};
+                };
+                const int64_t width = be32(header), height = be32(header + 4);
+                if (width == 0 || height == 0) throw InputError(fmt::format("{}: raster is {} x {}, with no sample to trace", path, width, height));
+            }
+        }
         if (type == "IEND") return;
         position = end;
     }
@@ -338,6 +362,8 @@ LoadedDem loadWithImageInput(const std::string& path, const DemLoadOptions& opti
                                      options.imageHeightScale));
 
     checkPngIsComplete(path);
+    // libpng's own error lines are kept off stderr; OpenImageIO passes their text on through geterror().
+    CapturedStderr libpngMessages;
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);  // keep channel 0 as stored, not multiplied by alpha
     auto input = OIIO::ImageInput::open(path, &config);
@@ -361,9 +387,12 @@ LoadedDem loadWithImageInput(const std::string& path, const DemLoadOptions& opti
     auto store = [&](const auto& samples) {
         for (int64_t row = 0; row < height; ++row) {
             const int64_t j = height - 1 - row;
-            for (int64_t i = 0; i < width; ++i)
-                heightsM[static_cast<size_t>(j * width + i)] = static_cast<float>(
-                    static_cast<double>(samples[static_cast<size_t>(row * width + i)]) * options.imageHeightScale);
+            for (int64_t i = 0; i < width; ++i) {
+                const double heightM =
+                    static_cast<double>(samples[static_cast<size_t>(row * width + i)]) * options.imageHeightScale;
+                if (heightM > kMaxAbsHeightM) throwBadHeight(path, i, row, heightM);
+                heightsM[static_cast<size_t>(j * width + i)] = static_cast<float>(heightM);
+            }
         }
     };
     if (spec.format == OIIO::TypeDesc::UINT8)
