@@ -12,12 +12,14 @@
 
 #include <OpenImageIO/imageio.h>
 #include <cpl_error.h>
+#include <cpl_vsi.h>
 #include <fmt/format.h>
 #include <gdal.h>
 #include <gdal_priv.h>
 #include <ogr_spatialref.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -215,11 +217,12 @@ Lattice georeference(const std::string& path, GDALDataset& dataset, const DemLoa
                                  path, column, row, heightM, kMaxAbsHeightM));
 }
 
-// Loads band 1 of any raster GDAL can open.
-LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options) {
+// Loads band 1 of any raster GDAL can open. Messages name `path`; GDAL opens `openPath` when one is given.
+LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, const std::string& openPath = {}) {
     registerGdalDrivers();
     QuietGdalErrors quiet;
-    GDALDatasetUniquePtr dataset(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+    const std::string& source = openPath.empty() ? path : openPath;
+    GDALDatasetUniquePtr dataset(GDALDataset::Open(source.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
     if (!dataset) {
         const std::string reason = gdalReason();
         const bool unrecognised = reason.find("not recognized as") != std::string::npos;
@@ -321,7 +324,10 @@ void checkPngIsComplete(const std::string& path) {
             throw InputError(fmt::format("{}: truncated PNG ({} bytes, ends before its IEND chunk)", path, size));
         const uint64_t length = uint64_t{bytes[0]} << 24 | uint64_t{bytes[1]} << 16 | uint64_t{bytes[2]} << 8 |
                                 uint64_t{bytes[3]};
-        const std::string type(reinterpret_cast<const char*>(bytes + 4), 4);
+        // The chunk type as printable text: a damaged file's type bytes may be anything, newlines included.
+        std::string type;
+        for (int k = 4; k < 8; ++k)
+            type += std::isprint(bytes[k]) ? std::string(1, static_cast<char>(bytes[k])) : fmt::format("\\x{:02x}", bytes[k]);
         const uint64_t end = position + 12 + length;  // length and type, data, CRC
         if (end > size)
             throw InputError(fmt::format("{}: truncated PNG ({} chunk at byte {} ends at byte {}, file has {})", path,
@@ -414,6 +420,25 @@ LoadedDem loadDem(const std::string& path, const DemLoadOptions& options) {
     // The one place where a format is chosen: PNG height maps through OpenImageIO, everything else through GDAL.
     if (toLower(std::filesystem::path(path).extension().string()) == ".png") return loadWithImageInput(path, options);
     return loadWithGdal(path, options);
+}
+
+LoadedDem loadDemFromBytes(std::string_view bytes, const std::string& name, const DemLoadOptions& options) {
+    if (bytes.empty()) throw InputError(name + ": file is empty");
+    registerGdalDrivers();
+    // A unique in-memory file per call, keeping the name's extension (some drivers look at it).
+    static std::atomic<uint64_t> counter{0};
+    const std::string memoryPath =
+        fmt::format("/vsimem/terracast-{}-{}{}", getpid(), counter++, std::filesystem::path(name).extension().string());
+    // GDAL reads the caller's buffer in place (no copy, not owned); the file is unlinked on every way out.
+    VSILFILE* file = VSIFileFromMemBuffer(memoryPath.c_str(), reinterpret_cast<GByte*>(const_cast<char*>(bytes.data())),
+                                          static_cast<vsi_l_offset>(bytes.size()), FALSE);
+    if (file == nullptr) throw std::runtime_error(name + ": cannot make an in-memory file");
+    VSIFCloseL(file);
+    struct Unlink {
+        const std::string& path;
+        ~Unlink() { VSIUnlink(path.c_str()); }
+    } unlink{memoryPath};
+    return loadWithGdal(name, options, memoryPath);
 }
 
 MetresPerDegree metresPerDegree(double latDeg) {
