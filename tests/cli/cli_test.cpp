@@ -94,6 +94,23 @@ TEST_CASE("CLI: render writes a PNG of the requested size and a one-line summary
     fs::remove_all(dir);
 }
 
+TEST_CASE("CLI: render writes byte-identical PNGs with 1, 2 and 8 threads, run after run", "[cli]") {
+    const fs::path dir = tempDir("determinism");
+    std::string first;
+    int run = 0;
+    for (int threads : {1, 2, 8, 8}) {
+        const fs::path out = dir / (std::to_string(run++) + "-" + std::to_string(threads) + "-threads.png");
+        const auto r = runTerracast("render '" + kStHelens + "' -o '" + out.string() + "' --size 96x64 --threads " +
+                                    std::to_string(threads) + " -q");
+        REQUIRE(r.exitCode == 0);
+        const std::string bytes = slurp(out);
+        REQUIRE(bytes.size() > 1000);
+        if (first.empty()) first = bytes;
+        CHECK(bytes == first);
+    }
+    fs::remove_all(dir);
+}
+
 TEST_CASE("CLI: render with --method embree and embree-grid writes the picture", "[cli][embree]") {
     const fs::path dir = tempDir("embree");
     for (const char* method : {"embree", "embree-grid", "triangles"}) {
