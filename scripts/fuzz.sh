@@ -4,11 +4,11 @@
 # input that did it is saved as build-dir/fuzz/artifacts/<target>-crash-*: fix the code, then keep the input
 # in tests/fuzz/regressions/<target>/ so the test suite replays it.
 # Usage: scripts/fuzz.sh [SECONDS] [BUILD_DIR]
-#   (defaults: 60 seconds each; build-asan, configured with CXX=clang++ -DTERRACAST_FUZZ=ON)
+#   (defaults: 60 seconds each; build-fuzz, configured with CXX=clang++ -DTERRACAST_FUZZ=ON)
 set -eu
 here=$(cd "$(dirname "$0")/.." && pwd)
 seconds=${1:-60}
-build=$(cd "${2:-build-asan}" && pwd)
+build=$(cd "${2:-build-fuzz}" && pwd)
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}"
 targets="scene_file dem_loader cell_intersector"
