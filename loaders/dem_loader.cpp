@@ -40,6 +40,10 @@ constexpr double kBytesPerVertex = sizeof(float) + 2 * sizeof(uint8_t) + sizeof(
 // Heights farther than this from sea level (1000 km; the Earth's relief spans 20 km) are refused as a wrong
 // unit, scale or undeclared nodata: tracing them would lose all float precision on real terrain.
 constexpr double kMaxAbsHeightM = 1.0e6;
+// Cell sizes outside this range come from a broken geotransform or unit: the extent of the grid would
+// overflow, or its cells vanish, in the float arithmetic of tracing.
+constexpr double kMinCellSizeM = 1.0e-6;
+constexpr double kMaxCellSizeM = 1.0e6;
 constexpr double kLargeExtentDeg = 5.0;                              // wider geographic extents get a warning
 constexpr double kFootM = 0.3048;                                    // international foot
 constexpr double kUsSurveyFootM = 1200.0 / 3937.0;                   // US survey foot
@@ -78,6 +82,11 @@ void checkRasterSize(const std::string& path, int64_t width, int64_t height, dou
 // Builds the grid, naming the file in any GridError, and refuses grids without a cell to trace.
 HeightGrid makeGrid(const std::string& path, int64_t width, int64_t height, double cellSizeXM, double cellSizeYM,
                     std::vector<float> heightsM, std::vector<uint8_t> valid) {
+    const auto sane = [](double m) { return m >= kMinCellSizeM && m <= kMaxCellSizeM; };
+    if (!sane(cellSizeXM) || !sane(cellSizeYM))
+        throw InputError(fmt::format("{}: cell size {:g} x {:g} m, expected {:g} m to {:g} m (a wrong geotransform or "
+                                     "unit?)",
+                                     path, cellSizeXM, cellSizeYM, kMinCellSizeM, kMaxCellSizeM));
     HeightGrid grid;
     try {
         grid = HeightGrid(width, height, cellSizeXM, cellSizeYM, std::move(heightsM), std::move(valid));
