@@ -139,11 +139,12 @@ void checkNotInput(const std::string& output, const std::string& input, const ch
         throw InputError(fmt::format("{}: {} is the input DEM; refusing to overwrite it", output, what));
 }
 
-// Checks an output path before any work: its extension is one of `allowed`, it is not the input DEM, and
-// its folder exists.
+// Checks an output path before any work: it is not the input DEM, its extension is one of `allowed`, and its
+// folder exists and takes a new file.
 void checkOutputPath(const std::string& output, const std::string& input,
                      std::initializer_list<const char*> allowed = {".png", ".exr"}) {
     namespace fs = std::filesystem;
+    checkNotInput(output, input, "output path");
     const std::string ext = lowerExtension(output);
     bool ok = false;
     std::string expected;
@@ -152,11 +153,11 @@ void checkOutputPath(const std::string& output, const std::string& input,
         expected += (expected.empty() ? "" : " or ") + std::string(a);
     }
     if (!ok) throw InputError(fmt::format("{}: unsupported output format '{}' (expected {})", output, ext, expected));
-    checkNotInput(output, input, "output path");
     std::error_code ec;
     const fs::path dir = fs::path(output).parent_path();
     if (!dir.empty() && !fs::is_directory(dir, ec))
         throw InputError(fmt::format("{}: output folder '{}' does not exist", output, dir.string()));
+    checkCanWrite(output);
 }
 
 // The direct cell method behind a surface method; the map commands trace the grid directly.

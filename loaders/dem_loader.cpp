@@ -12,12 +12,14 @@
 
 #include <OpenImageIO/imageio.h>
 #include <cpl_error.h>
+#include <cpl_vsi.h>
 #include <fmt/format.h>
 #include <gdal.h>
 #include <gdal_priv.h>
 #include <ogr_spatialref.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -35,6 +37,13 @@ constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
 // Per vertex while loading and tracing: the height, the nodata flag, the cell flag, the maximum pyramid
 // (a third of a float per cell) and the reader's float copy of the raster row data.
 constexpr double kBytesPerVertex = sizeof(float) + 2 * sizeof(uint8_t) + sizeof(float) / 3.0 + sizeof(float);
+// Heights farther than this from sea level (1000 km; the Earth's relief spans 20 km) are refused as a wrong
+// unit, scale or undeclared nodata: tracing them would lose all float precision on real terrain.
+constexpr double kMaxAbsHeightM = 1.0e6;
+// Cell sizes outside this range come from a broken geotransform or unit: the extent of the grid would
+// overflow, or its cells vanish, in the float arithmetic of tracing.
+constexpr double kMinCellSizeM = 1.0e-6;
+constexpr double kMaxCellSizeM = 1.0e6;
 constexpr double kLargeExtentDeg = 5.0;                              // wider geographic extents get a warning
 constexpr double kFootM = 0.3048;                                    // international foot
 constexpr double kUsSurveyFootM = 1200.0 / 3937.0;                   // US survey foot
@@ -57,7 +66,8 @@ void checkIsFile(const std::string& path) {
 
 // Rejects rasters without a cell, and rasters too large to hold, before anything is allocated.
 void checkRasterSize(const std::string& path, int64_t width, int64_t height, double maxBytes) {
-    if (width <= 0 || height <= 0) throw InputError(fmt::format("{}: raster is {} x {}", path, width, height));
+    if (width <= 0 || height <= 0)
+        throw InputError(fmt::format("{}: raster is {} x {}, with no sample to trace", path, width, height));
     if (width < 2 || height < 2)
         throw InputError(fmt::format("{}: {} x {} raster has no cell to trace (need at least 2 x 2)", path, width,
                                      height));
@@ -72,6 +82,11 @@ void checkRasterSize(const std::string& path, int64_t width, int64_t height, dou
 // Builds the grid, naming the file in any GridError, and refuses grids without a cell to trace.
 HeightGrid makeGrid(const std::string& path, int64_t width, int64_t height, double cellSizeXM, double cellSizeYM,
                     std::vector<float> heightsM, std::vector<uint8_t> valid) {
+    const auto sane = [](double m) { return m >= kMinCellSizeM && m <= kMaxCellSizeM; };
+    if (!sane(cellSizeXM) || !sane(cellSizeYM))
+        throw InputError(fmt::format("{}: cell size {:g} x {:g} m, expected {:g} m to {:g} m (a wrong geotransform or "
+                                     "unit?)",
+                                     path, cellSizeXM, cellSizeYM, kMinCellSizeM, kMaxCellSizeM));
     HeightGrid grid;
     try {
         grid = HeightGrid(width, height, cellSizeXM, cellSizeYM, std::move(heightsM), std::move(valid));
@@ -173,8 +188,13 @@ Lattice georeference(const std::string& path, GDALDataset& dataset, const DemLoa
         geo.geographic = true;
         const double degreesPerUnit = srs->GetAngularUnits(nullptr) * 180.0 / std::numbers::pi;
         const double centreLatDeg = (gt[3] + 0.5 * static_cast<double>(height) * gt[5]) * degreesPerUnit;
-        if (!(std::abs(centreLatDeg) < 90.0))
-            throw InputError(fmt::format("{}: centre latitude {} is outside -90..90 degrees", path, centreLatDeg));
+        // Meridians converge at a pole, so no flat local frame holds a raster that reaches one.
+        const double edgeLat0 = gt[3] * degreesPerUnit, edgeLat1 = (gt[3] + static_cast<double>(height) * gt[5]) * degreesPerUnit;
+        if (!(std::max(std::abs(edgeLat0), std::abs(edgeLat1)) < 90.0))
+            throw InputError(fmt::format("{}: latitudes {:g} .. {:g} reach or cross a pole, which a local metric frame "
+                                         "cannot hold; expected a raster within -90..90 degrees (reproject polar data "
+                                         "first, e.g. gdalwarp -t_srs EPSG:3413 or EPSG:3031)",
+                                         path, std::min(edgeLat0, edgeLat1), std::max(edgeLat0, edgeLat1)));
         geo.centreLatDeg = centreLatDeg;
         const double extentXDeg = static_cast<double>(width) * pixelX * degreesPerUnit;
         const double extentYDeg = static_cast<double>(height) * pixelY * degreesPerUnit;
@@ -201,15 +221,17 @@ Lattice georeference(const std::string& path, GDALDataset& dataset, const DemLoa
     if (std::isinf(heightM))
         throw InputError(fmt::format("{}: height at column {}, row {} is {}infinite (not declared as nodata)", path,
                                      column, row, heightM < 0 ? "minus " : ""));
-    throw InputError(fmt::format("{}: height at column {}, row {} is {:g} m, beyond the float32 range", path, column,
-                                 row, heightM));
+    throw InputError(fmt::format("{}: height at column {}, row {} is {:g} m, expected within {:g} m of sea level "
+                                 "(wrong unit or scale, or an undeclared nodata value?)",
+                                 path, column, row, heightM, kMaxAbsHeightM));
 }
 
-// Loads band 1 of any raster GDAL can open.
-LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options) {
+// Loads band 1 of any raster GDAL can open. Messages name `path`; GDAL opens `openPath` when one is given.
+LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, const std::string& openPath = {}) {
     registerGdalDrivers();
     QuietGdalErrors quiet;
-    GDALDatasetUniquePtr dataset(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+    const std::string& source = openPath.empty() ? path : openPath;
+    GDALDatasetUniquePtr dataset(GDALDataset::Open(source.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
     if (!dataset) {
         const std::string reason = gdalReason();
         const bool unrecognised = reason.find("not recognized as") != std::string::npos;
@@ -280,7 +302,8 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options) {
                 }
                 const double heightM = raw * metresPerRaw + metresOffset;
                 const auto heightF = static_cast<float>(heightM);
-                if (!std::isfinite(heightF)) throwBadHeight(path, column, row, heightM);
+                if (!std::isfinite(heightF) || std::abs(heightM) > kMaxAbsHeightM)
+                    throwBadHeight(path, column, row, heightM);
                 heightsM[index] = heightF;
             }
         }
@@ -294,25 +317,41 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options) {
 
 // Walks the PNG chunk layout (signature, then length, type, data and CRC per chunk, up to IEND) without
 // decoding anything, so that a truncated file gets a one-line InputError: OpenImageIO leaves libpng's default
-// error handler in place, which prints to stderr. Files that are not PNG at all are left for OpenImageIO.
+// error handler in place, which prints to stderr. A file named .png without the PNG signature is refused here.
 void checkPngIsComplete(const std::string& path) {
     constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
     std::error_code ec;
     const uint64_t size = std::filesystem::file_size(path, ec);
     std::ifstream in(path, std::ios::binary);
     unsigned char bytes[8] = {};
-    if (ec || !in.read(reinterpret_cast<char*>(bytes), 8) || !std::equal(bytes, bytes + 8, kSignature)) return;
+    if (ec || !in.read(reinterpret_cast<char*>(bytes), 8)) return;
+    if (!std::equal(bytes, bytes + 8, kSignature))
+        throw InputError(path + ": not a PNG file (its first 8 bytes are not the PNG signature)");
     for (uint64_t position = 8;;) {
         if (position + 8 > size || !in.seekg(static_cast<std::streamoff>(position)) ||
             !in.read(reinterpret_cast<char*>(bytes), 8))
             throw InputError(fmt::format("{}: truncated PNG ({} bytes, ends before its IEND chunk)", path, size));
         const uint64_t length = uint64_t{bytes[0]} << 24 | uint64_t{bytes[1]} << 16 | uint64_t{bytes[2]} << 8 |
                                 uint64_t{bytes[3]};
-        const std::string type(reinterpret_cast<const char*>(bytes + 4), 4);
+        // The chunk type as printable text: a damaged file's type bytes may be anything, newlines included.
+        std::string type;
+        for (int k = 4; k < 8; ++k)
+            type += std::isprint(bytes[k]) ? std::string(1, static_cast<char>(bytes[k])) : fmt::format("\\x{:02x}", bytes[k]);
         const uint64_t end = position + 12 + length;  // length and type, data, CRC
         if (end > size)
             throw InputError(fmt::format("{}: truncated PNG ({} chunk at byte {} ends at byte {}, file has {})", path,
                                          type, position, end, size));
+        if (position == 8 && type == "IHDR" && length >= 8) {
+            // The header's size, read here so that a 0 x 0 image gets the same message as any other raster.
+            unsigned char header[8] = {};
+            if (in.read(reinterpret_cast<char*>(header), 8)) {
+                const auto be32 = [](const unsigned char* b) {
+                    return int64_t{b[0]} << 24 | int64_t{b[1]} << 16 | int64_t{b[2]} << 8 | int64_t{b[3]};
+                };
+                const int64_t width = be32(header), height = be32(header + 4);
+                if (width == 0 || height == 0) throw InputError(fmt::format("{}: raster is {} x {}, with no sample to trace", path, width, height));
+            }
+        }
         if (type == "IEND") return;
         position = end;
     }
@@ -338,6 +377,8 @@ LoadedDem loadWithImageInput(const std::string& path, const DemLoadOptions& opti
                                      options.imageHeightScale));
 
     checkPngIsComplete(path);
+    // libpng's own error lines are kept off stderr; OpenImageIO passes their text on through geterror().
+    CapturedStderr libpngMessages;
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);  // keep channel 0 as stored, not multiplied by alpha
     auto input = OIIO::ImageInput::open(path, &config);
@@ -361,9 +402,12 @@ LoadedDem loadWithImageInput(const std::string& path, const DemLoadOptions& opti
     auto store = [&](const auto& samples) {
         for (int64_t row = 0; row < height; ++row) {
             const int64_t j = height - 1 - row;
-            for (int64_t i = 0; i < width; ++i)
-                heightsM[static_cast<size_t>(j * width + i)] = static_cast<float>(
-                    static_cast<double>(samples[static_cast<size_t>(row * width + i)]) * options.imageHeightScale);
+            for (int64_t i = 0; i < width; ++i) {
+                const double heightM =
+                    static_cast<double>(samples[static_cast<size_t>(row * width + i)]) * options.imageHeightScale;
+                if (heightM > kMaxAbsHeightM) throwBadHeight(path, i, row, heightM);
+                heightsM[static_cast<size_t>(j * width + i)] = static_cast<float>(heightM);
+            }
         }
     };
     if (spec.format == OIIO::TypeDesc::UINT8)
@@ -385,6 +429,25 @@ LoadedDem loadDem(const std::string& path, const DemLoadOptions& options) {
     // The one place where a format is chosen: PNG height maps through OpenImageIO, everything else through GDAL.
     if (toLower(std::filesystem::path(path).extension().string()) == ".png") return loadWithImageInput(path, options);
     return loadWithGdal(path, options);
+}
+
+LoadedDem loadDemFromBytes(std::string_view bytes, const std::string& name, const DemLoadOptions& options) {
+    if (bytes.empty()) throw InputError(name + ": file is empty");
+    registerGdalDrivers();
+    // A unique in-memory file per call, keeping the name's extension (some drivers look at it).
+    static std::atomic<uint64_t> counter{0};
+    const std::string memoryPath =
+        fmt::format("/vsimem/terracast-{}-{}{}", getpid(), counter++, std::filesystem::path(name).extension().string());
+    // GDAL reads the caller's buffer in place (no copy, not owned); the file is unlinked on every way out.
+    VSILFILE* file = VSIFileFromMemBuffer(memoryPath.c_str(), reinterpret_cast<GByte*>(const_cast<char*>(bytes.data())),
+                                          static_cast<vsi_l_offset>(bytes.size()), FALSE);
+    if (file == nullptr) throw std::runtime_error(name + ": cannot make an in-memory file");
+    VSIFCloseL(file);
+    struct Unlink {
+        const std::string& path;
+        ~Unlink() { VSIUnlink(path.c_str()); }
+    } unlink{memoryPath};
+    return loadWithGdal(name, options, memoryPath);
 }
 
 MetresPerDegree metresPerDegree(double latDeg) {

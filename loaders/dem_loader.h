@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace terracast {
@@ -46,6 +47,10 @@ struct LoadedDem {
 // Loads a DEM. Throws InputError (one line naming the file and the problem) when the file is missing,
 // not a raster, empty, holds non-finite heights, or has no valid cell.
 LoadedDem loadDem(const std::string& path, const DemLoadOptions& options = {});
+
+// Loads a DEM held in memory (a whole file's bytes) through GDAL, as if read from a file called `name`, which
+// the messages cite. Throws as loadDem does.
+LoadedDem loadDemFromBytes(std::string_view bytes, const std::string& name, const DemLoadOptions& options = {});
 
 // Metres per degree of latitude and longitude on the WGS84 ellipsoid at a latitude (degrees).
 struct MetresPerDegree {

@@ -5,17 +5,23 @@
 
 #include "loaders/errors.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+#include <fcntl.h>
 #include <fmt/format.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
+#include <string_view>
+#include <utility>
 
 namespace terracast {
 namespace {
@@ -23,6 +29,38 @@ namespace {
 using namespace loader_support;
 
 namespace fs = std::filesystem;
+
+// True when `path` exists and is (or links to) something other than a regular file or folder: a device such as
+// /dev/null or /dev/full, or a pipe.
+bool isDeviceOrPipe(const std::string& path) {
+    std::error_code ec;
+    const auto status = fs::status(path, ec);
+    return !ec && fs::exists(status) && !fs::is_regular_file(status) && !fs::is_directory(status);
+}
+
+// Writes all of `bytes` to `fd`; returns 0, or the errno of the first failed write.
+int writeAll(int fd, std::string_view bytes) {
+    while (!bytes.empty()) {
+        const ssize_t n = ::write(fd, bytes.data(), bytes.size());
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return n < 0 ? errno : EIO;
+        bytes.remove_prefix(static_cast<size_t>(n));
+    }
+    return 0;
+}
+
+// Creates the temporary file beside `path` in `folder` and returns its descriptor and name. A folder where no
+// file can be made is the user's to fix (InputError); anything else is a runtime failure.
+std::pair<int, fs::path> createTemporary(const std::string& path, const fs::path& folder) {
+    const fs::path temporary = folder / fmt::format(".{}.tmp{}", fs::path(path).filename().string(), getpid());
+    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    if (fd >= 0) return {fd, temporary};
+    const int error = errno;
+    if (error == EACCES || error == EPERM || error == EROFS || error == ENOENT || error == ENOTDIR)
+        throw InputError(fmt::format("{}: folder '{}' is not writable ({})", path, folder.string(), std::strerror(error)));
+    throw std::runtime_error(fmt::format("{}: cannot create a file in '{}' ({})", path, folder.string(),
+                                         std::strerror(error)));
+}
 
 // Decodes an sRGB value in [0, 1] to linear.
 float linearFromSrgb(float encoded) {
@@ -37,21 +75,43 @@ float srgbFromLinear(float linear) {
     return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
 }
 
-void writeTextFile(const std::string& path, const std::string& text) {
+void checkCanWrite(const std::string& path) {
+    if (isDeviceOrPipe(path)) return;
     const fs::path folder = writableFolder(path);
-    const fs::path target(path);
-    TemporaryFile temporary(folder / fmt::format(".{}.tmp{}", target.filename().string(), getpid()));
-    {
-        std::ofstream out(temporary.path(), std::ios::binary);
-        out << text;
-        out.flush();
-        if (!out) throw std::runtime_error(fmt::format("{}: cannot write in '{}'", path, folder.string()));
+    // Permission bits do not tell the whole story (read-only mounts, /proc, root): create a file to be sure.
+    const auto [fd, probe] = createTemporary(path, folder);
+    ::close(fd);
+    std::error_code ignored;
+    fs::remove(probe, ignored);
+}
+
+void writeFileAtomically(const std::string& path, std::string_view bytes) {
+    if (isDeviceOrPipe(path)) {
+        // A device or a pipe is written in place: renaming over it would replace it, and it keeps no partial file.
+        const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+        if (fd < 0) throw std::runtime_error(fmt::format("{}: cannot open for writing ({})", path, std::strerror(errno)));
+        const int error = writeAll(fd, bytes);
+        const bool closed = ::close(fd) == 0;
+        if (error != 0 || !closed)
+            throw std::runtime_error(fmt::format("{}: cannot write ({})", path, std::strerror(error ? error : errno)));
+        return;
     }
+    const fs::path folder = writableFolder(path);
+    auto [fd, temporaryPath] = createTemporary(path, folder);
+    TemporaryFile temporary(temporaryPath);
+    // Failures from here on (a full disk, an I/O error) are runtime failures: exit 1.
+    const int error = writeAll(fd, bytes);
+    const bool closed = ::close(fd) == 0;
+    if (error != 0 || !closed)
+        throw std::runtime_error(fmt::format("{}: cannot write in '{}' ({})", path, folder.string(),
+                                             std::strerror(error ? error : errno)));
     std::error_code ec;
-    fs::rename(temporary.path(), target, ec);
+    fs::rename(temporary.path(), fs::path(path), ec);
     if (ec) throw std::runtime_error(fmt::format("{}: cannot write ({})", path, ec.message()));
     temporary.release();
 }
+
+void writeTextFile(const std::string& path, const std::string& text) { writeFileAtomically(path, text); }
 
 void writeImage(const std::string& path, const RgbImage& image) {
     const std::string ext = lowerExtension(path);
@@ -63,39 +123,31 @@ void writeImage(const std::string& path, const RgbImage& image) {
         throw std::invalid_argument(fmt::format("writeImage: {} x {} image holds {} values", image.width,
                                                 image.height, image.rgb.size()));
 
-    const fs::path target(path);
-    const fs::path folder = writableFolder(path);
-    std::error_code ec;
-
-    // The real extension stays last so that OpenImageIO picks the format from the temporary name.
-    // Declared before the writer, so the writer closes its file before the file is removed.
-    TemporaryFile temporary(folder / fmt::format(".{}.tmp{}{}", target.filename().string(), getpid(), ext));
-    // A write that fails on the way (a full disk) is a runtime failure (exit 1).
+    // The image is encoded in memory, then written through writeFileAtomically, which sees every system call's
+    // error (a full disk included) and never leaves a partial file.
     auto fail = [&](const std::string& reason) {
-        return std::runtime_error(fmt::format("{}: cannot write in '{}' ({})", path, folder.string(), firstLine(reason)));
+        return std::runtime_error(fmt::format("{}: cannot encode the image ({})", path, firstLine(reason)));
     };
-
-    auto output = OIIO::ImageOutput::create(temporary.path().string());
+    OIIO::Filesystem::IOVecOutput encoded;
+    auto output = OIIO::ImageOutput::create(path);
     if (!output) throw fail(OIIO::geterror());
     OIIO::ImageSpec spec(image.width, image.height, 3, png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::HALF);
     spec.attribute("oiio:ColorSpace", png ? "sRGB" : "Linear");
-    if (!output->open(temporary.path().string(), spec)) throw fail(output->geterror());
+    if (!output->set_ioproxy(&encoded) || !output->open(path, spec)) throw fail(output->geterror());
 
     bool written = false;
     if (png) {
-        std::vector<uint8_t> encoded(image.rgb.size());
-        for (size_t k = 0; k < encoded.size(); ++k)
-            encoded[k] = static_cast<uint8_t>(std::lround(srgbFromLinear(image.rgb[k]) * 255.0f));
-        written = output->write_image(OIIO::TypeDesc::UINT8, encoded.data());
+        std::vector<uint8_t> levels(image.rgb.size());
+        for (size_t k = 0; k < levels.size(); ++k)
+            levels[k] = static_cast<uint8_t>(std::lround(srgbFromLinear(image.rgb[k]) * 255.0f));
+        written = output->write_image(OIIO::TypeDesc::UINT8, levels.data());
     } else {
         written = output->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data());
     }
     if (!written || !output->close()) throw fail(output->geterror());
     output.reset();
-
-    fs::rename(temporary.path(), target, ec);
-    if (ec) throw fail(ec.message());
-    temporary.release();
+    const std::vector<unsigned char>& bytes = encoded.buffer();
+    writeFileAtomically(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 RgbImage readImage(const std::string& path) {

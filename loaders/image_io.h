@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace terracast {
@@ -24,6 +25,15 @@ void writeImage(const std::string& path, const RgbImage& image);
 // Writes `text` to `path` through a temporary file in the same folder and a rename. Throws InputError for a
 // missing or unwritable folder, std::runtime_error when the write itself fails.
 void writeTextFile(const std::string& path, const std::string& text);
+
+// Checks, before any work, that `path` can be written: its folder exists and a file can be created in it, or it
+// names a device or pipe (written in place). Throws InputError naming the path otherwise.
+void checkCanWrite(const std::string& path);
+
+// Writes `bytes` to `path` through a temporary file in the same folder and a rename; a device or pipe (such
+// as /dev/null) is written in place. Throws InputError for a missing or unwritable folder, std::runtime_error
+// when writing fails (a full disk), and never leaves a partial file.
+void writeFileAtomically(const std::string& path, std::string_view bytes);
 
 // The sRGB encoding (IEC 61966-2-1) of a linear value, in [0, 1]; inputs outside [0, 1] and NaN are clamped.
 float srgbFromLinear(float linear);

@@ -10,6 +10,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <mutex>
 #include <string>
@@ -39,9 +42,50 @@ inline std::filesystem::path writableFolder(const std::string& path) {
     if (!std::filesystem::is_directory(folder, ec))
         throw InputError(fmt::format("{}: folder '{}' does not exist", path, folder.string()));
     if (::access(folder.c_str(), W_OK) != 0)
-        throw InputError(fmt::format("{}: folder '{}' is not writable", path, folder.string()));
+        throw InputError(fmt::format("{}: folder '{}' is not writable ({})", path, folder.string(), std::strerror(errno)));
     return folder;
 }
+
+// Captures what the process writes to stderr while it lives. libpng, under OpenImageIO, prints its errors and
+// warnings straight to stderr; capturing them keeps terracast's own one-line message the only line, and lets
+// the message quote libpng's reason. Meant for short, single-threaded reads (loading happens before rendering).
+class CapturedStderr {
+public:
+    CapturedStderr() {
+        std::fflush(stderr);
+        file_ = std::tmpfile();
+        saved_ = file_ ? ::dup(STDERR_FILENO) : -1;
+        if (saved_ >= 0) ::dup2(::fileno(file_), STDERR_FILENO);
+    }
+    ~CapturedStderr() { restore(); }
+    CapturedStderr(const CapturedStderr&) = delete;
+    CapturedStderr& operator=(const CapturedStderr&) = delete;
+
+    // Stops capturing and returns the first line written meanwhile ("" when none).
+    std::string firstLineWritten() {
+        restore();
+        return text_.substr(0, text_.find('\n'));
+    }
+
+private:
+    void restore() {
+        if (saved_ >= 0) {
+            std::fflush(stderr);
+            ::dup2(saved_, STDERR_FILENO);
+            ::close(saved_);
+            saved_ = -1;
+            std::rewind(file_);
+            char buffer[512];
+            size_t n = 0;
+            while (text_.size() < 4096 && (n = std::fread(buffer, 1, sizeof buffer, file_)) > 0) text_.append(buffer, n);
+        }
+        if (file_) std::fclose(file_);
+        file_ = nullptr;
+    }
+    std::FILE* file_ = nullptr;
+    int saved_ = -1;
+    std::string text_;
+};
 
 // Registers GDAL's drivers once per process.
 inline void registerGdalDrivers() {

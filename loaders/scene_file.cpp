@@ -444,7 +444,7 @@ void checkKeys(const TableReader& table, std::span<const KeyRule> rules, std::st
             taken.emplace_back(rule.key);
     for (const auto& [key, where] : table.keysInOrder()) {
         if (std::find(taken.begin(), taken.end(), key) != taken.end()) continue;
-        const auto rule = std::find_if(rules.begin(), rules.end(), [&](const KeyRule& r) { return r.key == key; });
+        const auto rule = std::find_if(rules.begin(), rules.end(), [&k = key](const KeyRule& r) { return r.key == k; });
         if (rule != rules.end()) {
             const std::vector<std::string> owners(rule->types.begin(), rule->types.end());
             table.fail(where, fmt::format("key {} does not apply to {} (only to {})", quoteKey(key), subject,
@@ -461,7 +461,7 @@ void refuseMisspeltKey(const TableReader& table, std::span<const KeyRule> rules,
     const std::vector<std::string> wanted{std::string(required)};
     for (const auto& [key, where] : table.keysInOrder()) {
         const bool known =
-            std::any_of(rules.begin(), rules.end(), [&](const KeyRule& r) { return r.key == key; });
+            std::any_of(rules.begin(), rules.end(), [&k = key](const KeyRule& r) { return r.key == k; });
         if (!known && nearMiss(key, wanted))
             table.fail(where, fmt::format("unknown key {} in {}{}", quoteKey(key), table.label(),
                                           didYouMean(key, wanted, true)));
@@ -1131,7 +1131,7 @@ void checkSections(const SceneContext& scene, const toml::table& root) {
     for (const auto& [key, where] : top.keysInOrder()) {
         const toml::node& n = *root.get(key);
         const auto section = std::find_if(kSections.begin(), kSections.end(),
-                                          [&](const Section& s) { return s.name == key; });
+                                          [&k = key](const Section& s) { return s.name == k; });
         if (section == kSections.end()) {
             const auto best = nearMiss(key, names);
             std::string hint;
