@@ -14,7 +14,6 @@
 #include "tracer/compare.h"
 #include "tracer/maps.h"
 #include "tracer/scene_renderer.h"
-#include "tracer/sun_position.h"
 #include "tracer/terrain_renderer.h"
 
 #include <fmt/core.h>
@@ -366,14 +365,9 @@ void applySunTime(const RenderOptions& o, const LoadedDem& dem, double& azimuthD
     if (!utc)
         throw InputError(fmt::format("--sun-time: expected an ISO 8601 time such as 2026-06-21T19:30Z, found '{}' ({})",
                                      o.sunTime, why));
-    double lon = 0.0, lat = 0.0;
-    gridCentreLonLat(dem.geo, dem.grid.width(), dem.grid.height(), o.dem.path + ": --sun-time", lon, lat);
-    const SolarPosition p = solarPosition(*parseCanonicalUtc(*utc), lat, lon);
-    azimuthDeg = p.azimuthDeg;
-    elevationDeg = p.apparentElevationDeg;
-    if (!o.quiet)
-        fmt::print(stderr, "terracast: sun at {} over {:.4f}, {:.4f} (lat, lon): azimuth {:.2f}, elevation {:.2f} degrees\n",
-                   *utc, lat, lon, azimuthDeg, elevationDeg);
+    const std::string line = placeSunOverGrid(*utc, dem.geo, dem.grid.width(), dem.grid.height(),
+                                              o.dem.path + ": --sun-time", azimuthDeg, elevationDeg);
+    if (!o.quiet) fmt::print(stderr, "terracast: {}\n", line);
 }
 
 int renderMap(const RenderOptions& o) {

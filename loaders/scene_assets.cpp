@@ -129,28 +129,35 @@ LoadedSceneAssets loadSceneAssets(const SceneDescription& scene, double maxBytes
     return out;
 }
 
+std::string placeSunOverGrid(const std::string& utc, const GeoReference& geo, int64_t width, int64_t height,
+                             const std::string& what, double& azimuthDeg, double& elevationDeg) {
+    const auto when = parseCanonicalUtc(utc);
+    if (!when) throw InputError("time: expected YYYY-MM-DDTHH:MM:SSZ, found " + utc);
+    double lon = 0.0, lat = 0.0;
+    gridCentreLonLat(geo, width, height, what, lon, lat);
+    const SolarPosition p = solarPosition(*when, lat, lon);
+    azimuthDeg = p.azimuthDeg;
+    elevationDeg = p.apparentElevationDeg;
+    return fmt::format("sun at {} over {:.4f}, {:.4f} (lat, lon): azimuth {:.2f}, elevation {:.2f} degrees", utc, lat,
+                       lon, azimuthDeg, elevationDeg);
+}
+
 std::vector<std::string> placeTimedSuns(SceneDescription& scene, const LoadedSceneAssets& loaded) {
     std::vector<std::string> lines;
     for (LightDescription& light : scene.lights) {
         if (light.kind != LightKind::Sun || light.time.empty()) continue;
-        const auto when = parseCanonicalUtc(light.time);
-        if (!when) throw InputError(where(scene, light.where) + "time: expected YYYY-MM-DDTHH:MM:SSZ, found " + light.time);
         if (loaded.assets.grids.empty() || !loaded.geo.front().georeferenced)
             throw InputError(where(scene, light.where) +
                              "time: placing the sun by time needs a georeferenced height field to say where on the "
                              "Earth the scene is (give azimuth and elevation instead)");
         const HeightGrid& grid = *loaded.assets.grids.front();
-        double lon = 0.0, lat = 0.0;
         try {
-            gridCentreLonLat(loaded.geo.front(), grid.width(), grid.height(), "the first height field", lon, lat);
+            lines.push_back(placeSunOverGrid(light.time, loaded.geo.front(), grid.width(), grid.height(),
+                                             "the first height field", light.azimuthDeg, light.elevationDeg));
         } catch (const InputError& e) {
-            throw InputError(where(scene, light.where) + "time: " + e.what());
+            const std::string what = e.what();
+            throw InputError(where(scene, light.where) + (what.rfind("time:", 0) == 0 ? "" : "time: ") + what);
         }
-        const SolarPosition p = solarPosition(*when, lat, lon);
-        light.azimuthDeg = p.azimuthDeg;
-        light.elevationDeg = p.apparentElevationDeg;
-        lines.push_back(fmt::format("sun at {} over {:.4f}, {:.4f} (lat, lon): azimuth {:.2f}, elevation {:.2f} degrees",
-                                    light.time, lat, lon, p.azimuthDeg, p.apparentElevationDeg));
     }
     return lines;
 }

@@ -98,10 +98,8 @@ public:
         : sampler_(sampler), px_(px), py_(py), k_(k), lights_(lights), stream_(seed ^ kSkyStreamKey, px, py, uint64_t(k)) {}
     std::optional<glm::dvec2> light(int depth, int index) const { return get(uint32_t(3 + depth * (lights_ + 1) + index)); }
     std::optional<glm::dvec2> gloss(int depth) const { return get(uint32_t(3 + depth * (lights_ + 1) + lights_)); }
-    // Point i of n for the sky-visibility rays at a bounce, shifted by this sample's own random point.
-    glm::dvec2 sky(int depth, int i, int n) const {
-        return skyVisibilityPoint(i, n, stream_.uniform2(uint64_t(2 * depth)));
-    }
+    // The shift of the sky-visibility lattice at a bounce: this sample's own random point.
+    glm::dvec2 skyShift(int depth) const { return stream_.uniform2(uint64_t(2 * depth)); }
 
 private:
     std::optional<glm::dvec2> get(uint32_t dimension) const {
@@ -278,18 +276,15 @@ private:
         const glm::vec3 open = sky_.ambient(n.z);
         const int count = scene_.sky().samples;
         if (count <= 0) return open;
-        const Frame frame = Frame::around(n);
-        int visible = 0;
-        for (int i = 0; i < count; ++i) {
-            const glm::dvec3 dir = frame.toWorld(squareToCosineHemisphere(samples_.sky(depth, i, count)));
-            counters_.count(RayKind::SkyVisibility);
-            const Ray ray = spawn(hit, dir, time);
-            const size_t record = beginRecord(ray, RayKind::SkyVisibility, depth + 1, weight);
-            const bool blocked = scene_.occludedByOpaque(ray, {0.0, kInfinity});
-            visible += !blocked;
-            endRecord(record, blocked ? "blocked" : "sky", blocked ? 0.0 : kInfinity, blocked ? glm::vec3(0.0f) : open);
-        }
-        return open * (float(visible) / float(count));
+        return open * openSkyFraction(n, count, samples_.skyShift(depth), [&](const glm::dvec3& dir) {
+                   counters_.count(RayKind::SkyVisibility);
+                   const Ray ray = spawn(hit, dir, time);
+                   const size_t record = beginRecord(ray, RayKind::SkyVisibility, depth + 1, weight);
+                   const bool blocked = scene_.occludedByOpaque(ray, {0.0, kInfinity});
+                   endRecord(record, blocked ? "blocked" : "sky", blocked ? 0.0 : kInfinity,
+                             blocked ? glm::vec3(0.0f) : open);
+                   return blocked;
+               });
     }
 
     // The sun's disc, seen directly or in a mirror: its irradiance spread over the disc's solid angle (reddened

@@ -5,6 +5,7 @@
 
 #include "tracer/atmosphere.h"
 #include "tracer/scene_description.h"
+#include "tracer/warps.h"
 
 #include <glm/glm.hpp>
 
@@ -23,6 +24,17 @@ struct SkySun {
 // ratio) shifted by `shift` (a random point per pixel and sample), so that even a few rays spread over the
 // hemisphere once warped to cosine-weighted directions.
 glm::dvec2 skyVisibilityPoint(int i, int n, const glm::dvec2& shift);
+
+// The open share of the hemisphere about the unit normal `n`, from `count` cosine-weighted directions spread by
+// skyVisibilityPoint with `shift`; `blocked(dir)` traces one sky-visibility ray and says whether it is stopped.
+template <class Blocked>
+float openSkyFraction(const glm::dvec3& n, int count, const glm::dvec2& shift, Blocked&& blocked) {
+    const Frame frame = Frame::around(n);
+    int open = 0;
+    for (int i = 0; i < count; ++i)
+        open += !blocked(frame.toWorld(squareToCosineHemisphere(skyVisibilityPoint(i, count, shift))));
+    return float(open) / float(count);
+}
 
 // The transmittance table of an atmosphere, shared by every render in the process that uses the same haze.
 std::shared_ptr<const TransmittanceTable> sharedTransmittanceTable(const AtmosphereParameters& parameters);

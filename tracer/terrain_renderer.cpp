@@ -113,15 +113,10 @@ private:
         const glm::vec3 open = sky_.ambient(n.z);
         const int count = s_.sky.samples;
         if (count <= 0) return open;
-        const glm::dvec2 shift = RandomStream(s_.seed, px, py).uniform2(0);
-        const Frame frame = Frame::around(n);
-        int visible = 0;
-        for (int i = 0; i < count; ++i) {
-            const glm::dvec3 dir = frame.toWorld(squareToCosineHemisphere(skyVisibilityPoint(i, count, shift)));
-            ++skyRays;
-            visible += !surface_.occluded(Ray{spawnOrigin(hit, dir), dir}, {0.0, kInfinity});
-        }
-        return open * (float(visible) / float(count));
+        skyRays += count;
+        return open * openSkyFraction(n, count, RandomStream(s_.seed, px, py).uniform2(0), [&](const glm::dvec3& dir) {
+                   return surface_.occluded(Ray{spawnOrigin(hit, dir), dir}, {0.0, kInfinity});
+               });
     }
 
     const HeightGrid& grid_;

@@ -48,6 +48,16 @@ CameraDescription lookingAt(glm::dvec3 eye, glm::dvec3 look, double fov = 40.0) 
     return c;
 }
 
+// Clear glass of index 1.5 with no diffuse part, named "glass".
+MaterialDescription clearGlass() {
+    MaterialDescription glass;
+    glass.name = "glass";
+    glass.kd = 0.0f;
+    glass.dielectric = true;
+    glass.ior = glm::vec3(1.5f);
+    return glass;
+}
+
 SceneRenderSettings settingsFor(const SceneDescription& d) {
     SceneRenderSettings s;
     s.width = d.render.width;
@@ -144,12 +154,7 @@ TEST_CASE("Total internal reflection begins at the critical angle of 41.8 degree
 
     // In a scene: a ray inside a glass block meeting its top face beyond the critical angle spawns no refraction.
     SceneDescription d;
-    MaterialDescription glass;
-    glass.name = "glass";
-    glass.kd = 0.0f;
-    glass.dielectric = true;
-    glass.ior = glm::vec3(1.5f);
-    d.materials.push_back(glass);
+    d.materials.push_back(clearGlass());
     d.objects.push_back(box({-100, -100, -1}, {100, 100, 0}, "glass"));
     d.sky.kind = SkyKind::Flat;
     d.render.maxDepth = 1;
@@ -417,12 +422,7 @@ TEST_CASE("Shadow rays through glass use the material's Fresnel model", "[scene]
     white.name = "white";
     white.colour = glm::vec3(1.0f);
     d.materials.push_back(white);
-    MaterialDescription glass;
-    glass.name = "glass";
-    glass.kd = 0.0f;
-    glass.dielectric = true;
-    glass.ior = glm::vec3(1.5f);
-    d.materials.push_back(glass);
+    d.materials.push_back(clearGlass());
     d.objects.push_back(plane({0, 0, 0}, {0, 0, 1}, "white"));
     d.objects.push_back(box({-100, -100, 2.0}, {100, 100, 2.5}, "glass"));
     d.sky.kind = SkyKind::None;
