@@ -14,6 +14,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <type_traits>
 
 namespace terracast {
 
@@ -38,9 +39,12 @@ struct CellSegment {
     Real gEntry, gExit;  // surface height above the ray at s = 0 and s = length (shared with neighbours)
 };
 
-// a*b - c*d with one rounding error, by Kahan's FMA algorithm.
+// a*b - c*d with one rounding error, by Kahan's FMA algorithm. In float the products are formed exactly in
+// double instead (24-bit significands multiply into 48 bits), which needs no FMA instruction.
 template <class Real>
 inline Real differenceOfProducts(Real a, Real b, Real c, Real d) {
+    if constexpr (std::is_same_v<Real, float>)
+        return float(double(a) * double(b) - double(c) * double(d));
     const Real cd = c * d;
     const Real err = std::fma(-c, d, cd);
     const Real dop = std::fma(a, b, -cd);

@@ -100,22 +100,24 @@ Real unitRoundoff() {
 template <class Real, Shape shape>
 std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interval interval, bool anyHit,
                                     TraceCounters* counters, Traversal traversal) {
-    if (interval.empty()) return std::nullopt;
+    // One result object, returned from every exit, so it is built in place (named return value).
+    std::optional<HeightFieldHit> result;
+    if (interval.empty()) return result;
     const glm::dvec3 og{ray.origin.x / g.cellSizeXM(), ray.origin.y / g.cellSizeYM(), ray.origin.z};
     const glm::dvec3 dg{ray.dir.x / g.cellSizeXM(), ray.dir.y / g.cellSizeYM(), ray.dir.z};
-    if (dg.x == 0.0 && dg.y == 0.0 && dg.z == 0.0) return std::nullopt;
-    if (!std::isfinite(og.x + og.y + og.z + dg.x + dg.y + dg.z)) return std::nullopt;
+    if (dg.x == 0.0 && dg.y == 0.0 && dg.z == 0.0) return result;
+    if (!std::isfinite(og.x + og.y + og.z + dg.x + dg.y + dg.z)) return result;
 
     // The z slab is padded so a flat grid (zmin == zmax) still yields a segment of non-zero length.
     const double zLo = g.minHeightM(), zHi = g.maxHeightM();
     const double zPad = 1e-6 * (1.0 + std::max(std::abs(zLo), std::abs(zHi)));
     double t0 = interval.lo, t1 = interval.hi;
-    if (!clipToSlab(og.z, dg.z, zLo - zPad, zHi + zPad, t0, t1)) return std::nullopt;
+    if (!clipToSlab(og.z, dg.z, zLo - zPad, zHi + zPad, t0, t1)) return result;
     if (!std::isfinite(t0) || !std::isfinite(t1)) {
         // Only a horizontal ray with an unbounded interval gets here; bound it by the footprint.
-        if (!clipToSlab(og.x, dg.x, 0.0, double(g.cellsX()), t0, t1)) return std::nullopt;
-        if (!clipToSlab(og.y, dg.y, 0.0, double(g.cellsY()), t0, t1)) return std::nullopt;
-        if (!std::isfinite(t0) || !std::isfinite(t1)) return std::nullopt;
+        if (!clipToSlab(og.x, dg.x, 0.0, double(g.cellsX()), t0, t1)) return result;
+        if (!clipToSlab(og.y, dg.y, 0.0, double(g.cellsY()), t0, t1)) return result;
+        if (!std::isfinite(t0) || !std::isfinite(t1)) return result;
     }
 
     const Real eps = unitRoundoff<Real>();
@@ -126,83 +128,61 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
     double margin = 8.0 * double(eps) * (heightScale + std::abs(og.z)) + 1e-30;
     if (counters) margin = std::max(margin, tolerance);
 
-    std::optional<HeightFieldHit> result;
+    const int64_t cellsX = g.cellsX(), cellsY = g.cellsY();
+    if (!clipToSlab(og.x, dg.x, 0.0, double(cellsX), t0, t1)) return result;
+    if (!clipToSlab(og.y, dg.y, 0.0, double(cellsY), t0, t1)) return result;
+
     // G at the exit of the last cell tested, while every cell walked since has had (almost) zero length. An exact
     // corner crossing visits a zero-length cell between two diagonal neighbours; when that cell is a hole,
     // this carries the chain of shared G values across the corner.
     std::optional<Real> cornerG;
+    // G on the boundary just crossed, when the cell before it was tested: the next cell's gEntry, bit for bit
+    // (both are evaluated from that edge's two vertices at the same t), so it is not evaluated twice.
+    Real carriedG = Real(0);
+    bool hasCarriedG = false;
 
-    // The ray parameter where the ray leaves the largest pyramid block around cell (i, j) that it passes
-    // above (by the margin) from tFrom on, or tFrom when it passes above none. Every cell of such a block
-    // would be rejected by the per-cell test below, so skipping it changes no hit.
-    const int levels = traversal == Traversal::Pyramid ? g.pyramidLevels() : 0;
-    // Block exits divide exactly as walkCells does, so a walk restarted there sees the same boundary t.
-    auto skipTo = [&](int64_t i, int64_t j, double tFrom) {
-        const double zFrom = og.z + tFrom * dg.z;
-        double best = tFrom;
-        for (int k = 1; k <= levels; ++k) {
-            const int64_t bi = i >> k, bj = j >> k;
-            const double x0 = double(bi << k), x1 = double(std::min((bi + 1) << k, g.cellsX()));
-            const double y0 = double(bj << k), y1 = double(std::min((bj + 1) << k, g.cellsY()));
-            double tOut = t1;
-            if (dg.x != 0.0) tOut = std::min(tOut, ((dg.x > 0.0 ? x1 : x0) - og.x) / dg.x);
-            if (dg.y != 0.0) tOut = std::min(tOut, ((dg.y > 0.0 ? y1 : y0) - og.y) / dg.y);
-            const double zLow = std::min(zFrom, og.z + tOut * dg.z);
-            if (!(zLow > double(g.blockMaxM(k, bi, bj)) + margin)) break;
-            best = tOut;
-        }
-        return best;
-    };
-
-    double tStart = t0, restartAt = 0.0;
-    auto visitCell = [&](const CellVisit& c) {
+    // What visiting one cell found.
+    enum class Visit { Passed, Tested, Hit };
+    auto visitCell = [&](int64_t ci, int64_t cj, double tEnter, double tExit, CellSide entry, CellSide exit) {
         if (counters) ++counters->cellsVisited;
-        // Try the pyramid only where the cell itself would be passed over: a cell the ray might touch cannot
-        // lie in a block it passes above, so cells near the surface pay nothing for the pyramid.
-        auto trySkip = [&]() {
-            if (levels == 0 || !(c.tExit > c.tEnter)) return false;
-            const double tSkip = skipTo(c.i, c.j, c.tEnter);
-            if (!(tSkip > c.tExit)) return false;
-            if (counters) ++counters->blocksSkipped;
-            cornerG.reset();
-            restartAt = tSkip;
-            return true;
-        };
-        if (!g.cellValid(c.i, c.j)) {
-            if (trySkip()) return true;
+        if (!g.cellValid(ci, cj)) {
+            hasCarriedG = false;
             // A corner pass: the segment clips the hole cell by less than 1e-7 of a cell (rounding of t).
-            if ((c.tExit - c.tEnter) * (std::abs(dg.x) + std::abs(dg.y)) > 1e-7) cornerG.reset();
-            return false;
+            if ((tExit - tEnter) * (std::abs(dg.x) + std::abs(dg.y)) > 1e-7) cornerG.reset();
+            return Visit::Passed;
         }
-        const glm::dvec3 pEnter = og + c.tEnter * dg;
-        const glm::dvec3 pExit = og + c.tExit * dg;
-        const double h00 = g.at(c.i, c.j), h10 = g.at(c.i + 1, c.j), h01 = g.at(c.i, c.j + 1),
-                     h11 = g.at(c.i + 1, c.j + 1);
-        const double zMin = std::min(pEnter.z, pExit.z), zMax = std::max(pEnter.z, pExit.z);
+        const double zEnter = og.z + tEnter * dg.z, zExit = og.z + tExit * dg.z;
+        const double h00 = g.at(ci, cj), h10 = g.at(ci + 1, cj), h01 = g.at(ci, cj + 1), h11 = g.at(ci + 1, cj + 1);
+        const double zMin = std::min(zEnter, zExit), zMax = std::max(zEnter, zExit);
         if (zMin > std::max(std::max(h00, h10), std::max(h01, h11)) + margin) {
-            if (trySkip()) return true;
             cornerG.reset();
-            return false;
+            hasCarriedG = false;
+            return Visit::Passed;
         }
         // A segment wholly below the cell is skipped when looking for the first crossing; for occlusion the
         // terrain is solid, so such a segment is tested (and found blocked) below.
         if (!anyHit && zMax < std::min(std::min(h00, h10), std::min(h01, h11)) - margin) {
             cornerG.reset();
-            return false;
+            hasCarriedG = false;
+            return Visit::Tested;
         }
-        const auto h = corners<Real>(g, c.i, c.j, Wide<Real>(h00));
+        const auto h = corners<Real>(g, ci, cj, Wide<Real>(h00));
         if (counters) ++counters->cellsTested;
 
+        const glm::dvec3 pEnter{og.x + tEnter * dg.x, og.y + tEnter * dg.y, zEnter};
+        const glm::dvec3 pExit{og.x + tExit * dg.x, og.y + tExit * dg.y, zExit};
         CellSegment<Real> seg;
-        seg.u0 = std::clamp(Real(pEnter.x - double(c.i)), Real(0), Real(1));
-        seg.v0 = std::clamp(Real(pEnter.y - double(c.j)), Real(0), Real(1));
-        seg.z0 = Real(Wide<Real>(pEnter.z) - Wide<Real>(h00));
+        seg.u0 = std::clamp(Real(pEnter.x - double(ci)), Real(0), Real(1));
+        seg.v0 = std::clamp(Real(pEnter.y - double(cj)), Real(0), Real(1));
+        seg.z0 = Real(Wide<Real>(zEnter) - Wide<Real>(h00));
         seg.du = Real(dg.x);
         seg.dv = Real(dg.y);
         seg.dz = Real(dg.z);
-        seg.length = Real(c.tExit - c.tEnter);
-        seg.gEntry = surfaceAboveRay<Real, shape>(g, c.i, c.j, c.entry, pEnter);
-        seg.gExit = surfaceAboveRay<Real, shape>(g, c.i, c.j, c.exit, pExit);
+        seg.length = Real(tExit - tEnter);
+        seg.gEntry = hasCarriedG ? carriedG : surfaceAboveRay<Real, shape>(g, ci, cj, entry, pEnter);
+        seg.gExit = surfaceAboveRay<Real, shape>(g, ci, cj, exit, pExit);
+        carriedG = seg.gExit;
+        hasCarriedG = true;
 
         std::optional<Real> s;
         if (anyHit && seg.gEntry > Real(0)) s = Real(0);  // under the solid terrain (entered from a hole or edge)
@@ -214,15 +194,15 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
 
         if constexpr (shape == Shape::Bilinear)
             if (counters && !counters->ambiguous) counters->ambiguous = grazes(h, seg, s.has_value(), tolerance);
-        if (!s) return false;
+        if (!s) return Visit::Tested;
 
-        const double t = c.tEnter + double(*s);
-        if (!interval.contains(t)) return false;
+        const double t = tEnter + double(*s);
+        if (!interval.contains(t)) return Visit::Tested;
 
         HeightFieldHit hit;
         hit.t = t;
-        hit.cellX = c.i;
-        hit.cellY = c.j;
+        hit.cellX = ci;
+        hit.cellY = cj;
         const Real u = std::clamp(seg.u0 + *s * seg.du, Real(0), Real(1));
         const Real v = std::clamp(seg.v0 + *s * seg.dv, Real(0), Real(1));
         hit.u = double(u);
@@ -246,7 +226,7 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
             // A hit at the entry below the square's level is a wall hit.
             const Real level = Real(0.25) * ((h.h00 + h.h10) + (h.h01 + h.h11));
             if (*s == Real(0) && level - seg.z0 >= Real(0)) {
-                switch (c.entry) {
+                switch (entry) {
                 case CellSide::XLow: n = {-1, 0, 0}; break;
                 case CellSide::XHigh: n = {1, 0, 0}; break;
                 case CellSide::YLow: n = {0, -1, 0}; break;
@@ -260,14 +240,127 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
         hit.errorM = 16.0 * double(eps) * (std::abs(hit.pointM.z) + heightScale + g.cellSizeXM() + g.cellSizeYM()) +
                      16.0 * std::numeric_limits<double>::epsilon() * magnitude;
         result = hit;
-        return true;
+        return Visit::Hit;
     };
-    // Walk, and after each pyramid skip walk again from where the skipped block ends.
+
+    // The walk: the 2D DDA of Amanatides & Woo 1987 over the cells, interleaved with the maximum-pyramid descent
+    // of Tevs, Ihrke, Seidel 2008. At level k >= 1 the walk stands at the block of 2^k x 2^k cells holding the
+    // current cell; when the ray passes above the block's highest vertex (by the margin) over the whole stretch
+    // it spends in the block, the block is skipped and the walk climbs one level, otherwise it descends. At
+    // level 0 one cell is visited exactly as the flat walk visits it. Every boundary's ray parameter comes from
+    // one formula, and after a skip the walk resumes in the cell the flat walk would stand in at that
+    // parameter (ties between an x and a y boundary go to x first, as in the flat walk), so the cells reached
+    // see the same tEnter, tExit and sides, and skipping changes no hit: every cell of a skipped block would
+    // have been passed over.
+    const int levels = traversal == Traversal::Pyramid ? g.pyramidLevels() : 0;
+    const bool posX = dg.x > 0.0, posY = dg.y > 0.0;
+    const double ox = og.x, oy = og.y, oz = og.z, dz = dg.z;
+    // The parameter of the boundary x = const is (x - ox) / dx, taken as a product with the reciprocal; a ray
+    // parallel to the boundaries gets +infinity from the added bias (0 otherwise, which changes no bit).
+    const double invX = dg.x != 0.0 ? 1.0 / dg.x : 0.0, invY = dg.y != 0.0 ? 1.0 / dg.y : 0.0;
+    const double biasX = dg.x != 0.0 ? 0.0 : kInfinity, biasY = dg.y != 0.0 ? 0.0 : kInfinity;
+    auto tAtX = [=](int64_t x) { return (double(x) - ox) * invX + biasX; };
+    auto tAtY = [=](int64_t y) { return (double(y) - oy) * invY + biasY; };
+    // The ray parameter where the walk leaves column i (row j) in its direction of travel.
+    const int64_t exitOffX = posX ? 1 : 0, exitOffY = posY ? 1 : 0;
+    auto exitX = [=](int64_t i) { return tAtX(i + exitOffX); };
+    auto exitY = [=](int64_t j) { return tAtY(j + exitOffY); };
+    const int64_t stepX = posX ? 1 : -1, stepY = posY ? 1 : -1;
+
+    // The first cell holds the entry point, preferring the side the ray moves into on a boundary. (Truncation
+    // is floor here: the point is clamped to the grid first; std::floor is a library call on baseline x86-64.)
+    auto firstIndex = [](double o, double d, double t, int64_t cells) {
+        const double p = std::clamp(o + t * d, 0.0, static_cast<double>(cells));
+        auto k = static_cast<int64_t>(p);
+        if (d < 0.0 && static_cast<double>(k) == p) --k;
+        return std::clamp(k, int64_t(0), cells - 1);
+    };
+    // The column (row) the flat walk stands in once it has crossed exactly those boundaries of that axis
+    // whose parameter is below tb, or also those at tb when `inclusive`. The flat walk crosses boundaries in
+    // order of t, x before y on a tie, so "every boundary below tb, and the x boundaries at tb" and "every
+    // boundary below tb" are both states it passes through. Starts from the point's floor and corrects by the
+    // boundary parameters; -1 when the flat walk would have left the grid first.
+    auto settle = [&](double o, double d, int64_t cells, double tb, int64_t step, bool inclusive,
+                      auto exitAt) -> int64_t {
+        auto crossed = [&](int64_t c) { return inclusive ? exitAt(c) <= tb : exitAt(c) < tb; };
+        auto k = static_cast<int64_t>(std::clamp(o + tb * d, 0.0, static_cast<double>(cells - 1)));
+        if (crossed(k)) {
+            do {
+                k += step;
+                if (k < 0 || k >= cells) return -1;
+            } while (crossed(k));
+        } else {
+            while (k - step >= 0 && k - step < cells && !crossed(k - step)) k -= step;
+        }
+        return k;
+    };
+
+    int64_t i = firstIndex(og.x, dg.x, t0, cellsX);
+    int64_t j = firstIndex(og.y, dg.y, t0, cellsY);
+    CellSide entry = CellSide::Interior;
+    double t = t0;
+    int level = 0;
     for (;;) {
-        restartAt = kInfinity;
-        walkCells(g.cellsX(), g.cellsY(), {og.x, og.y}, {dg.x, dg.y}, tStart, t1, visitCell);
-        if (result || !(restartAt < t1) || !(restartAt > tStart)) break;
-        tStart = restartAt;
+        if (level > 0) {
+            const int64_t bi = i >> level, bj = j >> level;
+            // The block's exit edges in the direction of travel (clipped to the grid) and their parameters.
+            const int64_t xEdge = std::min((bi + exitOffX) << level, cellsX);
+            const int64_t yEdge = std::min((bj + exitOffY) << level, cellsY);
+            const double txb = tAtX(xEdge), tyb = tAtY(yEdge);
+            const bool leavesX = txb <= tyb;
+            const double tb = leavesX ? txb : tyb;
+            const double tOut = std::max(t, std::min(tb, t1));
+            const double top = double(g.blockMaxM(level, bi, bj)) + margin;
+            const double zNow = oz + t * dz;
+            if (!(tOut > t) || !(std::min(zNow, oz + tOut * dz) > top)) {
+                --level;
+                continue;
+            }
+            if (counters) ++counters->blocksSkipped;
+            cornerG.reset();
+            hasCarriedG = false;
+            if (t1 <= tb) break;  // the interval ends inside the skipped block
+            if (leavesX) {
+                i = xEdge - 1 + exitOffX;
+                if (i < 0 || i >= cellsX) break;
+                if (dg.y != 0.0) j = settle(oy, dg.y, cellsY, tb, stepY, false, exitY);
+                if (j < 0) break;
+                entry = posX ? CellSide::XLow : CellSide::XHigh;
+            } else {
+                j = yEdge - 1 + exitOffY;
+                if (j < 0 || j >= cellsY) break;
+                if (dg.x != 0.0) i = settle(ox, dg.x, cellsX, tb, stepX, true, exitX);
+                if (i < 0) break;
+                entry = posY ? CellSide::YLow : CellSide::YHigh;
+            }
+            t = tb;
+            level = std::min(level + 1, levels);
+            continue;
+        }
+
+        const double tNextX = exitX(i), tNextY = exitY(j);
+        const bool crossX = tNextX <= tNextY;
+        const double tBoundary = crossX ? tNextX : tNextY;
+        const bool ends = t1 <= tBoundary;
+        const double tExit = std::max(t, ends ? t1 : tBoundary);
+        const CellSide exit = ends && t1 < tBoundary ? CellSide::Interior
+                              : crossX               ? (posX ? CellSide::XHigh : CellSide::XLow)
+                                                     : (posY ? CellSide::YHigh : CellSide::YLow);
+        const Visit visit = visitCell(i, j, t, tExit, entry, exit);
+        if (visit == Visit::Hit || ends) break;
+        // Try the pyramid only after a cell the ray passed over: a cell the ray might touch cannot lie in a
+        // block it passes above, so cells near the surface pay nothing for the pyramid.
+        if (visit == Visit::Passed && levels > 0) level = 1;
+        if (crossX) {
+            i += stepX;
+            if (i < 0 || i >= cellsX) break;
+            entry = posX ? CellSide::XLow : CellSide::XHigh;
+        } else {
+            j += stepY;
+            if (j < 0 || j >= cellsY) break;
+            entry = posY ? CellSide::YLow : CellSide::YHigh;
+        }
+        t = tExit;
     }
     return result;
 }
