@@ -110,6 +110,7 @@ void HeightGrid::chooseStorage() {
     if (scaleHint_ > 0.0 && std::isfinite(scaleHint_) && scaleHint_ != 1.0) tryInt16(scaleHint_);
 }
 
+// Lossless means the same bits: a valid -0 height (which decodes as +0) keeps the grid in float32.
 bool HeightGrid::tryInt16(double s) {
     // The lowest valid height gets code -32768, so a range of 65536 codes starts there.
     const double qlo = std::round(double(minHeightM_) / s), qhi = std::round(double(maxHeightM_) / s);
@@ -184,8 +185,9 @@ void HeightGrid::buildPyramid() {
         pyramidOffset_ = static_cast<int32_t>(int64_t(std::floor(lo / s)) + 32766);  // lo lands near -32766
     }
     auto decodeBound = [&](int32_t q) { return float(double(q + pyramidOffset_) * pyramidScale_); };
+    const double perMetre = 1.0 / pyramidScale_;  // only a first guess: the loops below settle the code
     auto encodeUp = [&](float z) {
-        const double guess = std::ceil(double(z) / pyramidScale_) - double(pyramidOffset_);
+        const double guess = std::ceil(double(z) * perMetre) - double(pyramidOffset_);
         auto q = static_cast<int32_t>(std::clamp(guess, double(kLowestCode + 1), double(kHighestCode)));
         while (q < kHighestCode && decodeBound(q) < z) ++q;
         while (q > kLowestCode + 1 && decodeBound(q - 1) >= z) --q;
