@@ -82,19 +82,23 @@ HeightGrid fractalTerrain(const FractalTerrainOptions& o) {
 
     const float lowest = *std::min_element(h.begin(), h.end());
     for (float& v : h) v -= lowest;
+    // Whole metres (all heights are >= 0 here, so no -0 appears): the grid then encodes them as int16 and
+    // releases this float array, leaving 2 bytes per vertex.
+    if (o.integerHeights)
+        for (float& v : h) v = std::round(v);
     return HeightGrid(w, w, o.cellSizeM, o.cellSizeM, std::move(h));
 }
 
-int64_t fractalTerrainBytes(int64_t size) {
-    // Heights, then the maximum pyramid's levels exactly as HeightGrid builds them (no masks: no nodata).
+int64_t fractalTerrainBytes(int64_t size, bool integerHeights) {
+    // Heights, then the maximum pyramid's int16 levels exactly as HeightGrid builds them (no masks: no nodata).
     const int64_t cells = size - 1;
-    int64_t bytes = size * size * int64_t(sizeof(float));
+    int64_t bytes = size * size * int64_t(integerHeights ? sizeof(int16_t) : sizeof(float));
     int64_t bx = (cells + 1) / 2, by = bx;
-    bytes += bx * by * int64_t(sizeof(float));
+    bytes += bx * by * int64_t(sizeof(int16_t));
     while (bx > 1 || by > 1) {
         bx = (bx + 1) / 2;
         by = (by + 1) / 2;
-        bytes += bx * by * int64_t(sizeof(float));
+        bytes += bx * by * int64_t(sizeof(int16_t));
     }
     return bytes;
 }

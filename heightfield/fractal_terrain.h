@@ -17,6 +17,7 @@ struct FractalTerrainOptions {
     double roughness = 0.85;      // Hurst exponent: offsets shrink by 2^-roughness per halving of the step
     double offsetAt1KmM = 150.0;  // standard offset at a step of 1 km; sets the steepness of small features
     double maxOffsetM = 500.0;    // cap on the offset of long steps, so relief stays mountain-sized on big grids
+    bool integerHeights = false;  // round heights to whole metres, so the grid stores them as int16 codes
 };
 
 // True when `size` is 2^n + 1 for some n >= 1 (3, 5, 9, ..., 513, 2049, ...).
@@ -27,6 +28,8 @@ bool isFractalTerrainSize(int64_t size);
 HeightGrid fractalTerrain(const FractalTerrainOptions& options);
 
 // The bytes fractalTerrain's grid of this size holds (heights and maximum pyramid), computed without building it.
-int64_t fractalTerrainBytes(int64_t size);
+// With integer heights the grid holds int16 codes (2 bytes per vertex) as long as its relief stays within
+// 65535 m (it does with the default offsets, by a wide margin); otherwise float32 (4 bytes per vertex).
+int64_t fractalTerrainBytes(int64_t size, bool integerHeights = false);
 
 }  // namespace terracast

@@ -1,16 +1,47 @@
 #include "heightfield/height_grid.h"
 
+#include <algorithm>
+#include <atomic>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <thread>
 
 namespace terracast {
 
+namespace {
+
+// Runs f(first, last) over [0, n) split into contiguous ranges, one per hardware thread; in the calling thread
+// alone when the work (n * workPerItem, in rough element visits) is too small to pay for starting threads.
+// f must not throw.
+template <typename F>
+void parallelRanges(int64_t n, int64_t workPerItem, F&& f) {
+    const int64_t threads =
+        std::min<int64_t>(n, std::max<int64_t>(1, int64_t(std::thread::hardware_concurrency())));
+    if (threads <= 1 || n * workPerItem < (int64_t(1) << 20)) {
+        f(int64_t(0), n);
+        return;
+    }
+    std::vector<std::thread> pool;
+    pool.reserve(size_t(threads - 1));
+    for (int64_t t = 1; t < threads; ++t) pool.emplace_back([&f, n, t, threads] { f(n * t / threads, n * (t + 1) / threads); });
+    f(int64_t(0), n / threads);
+    for (auto& thread : pool) thread.join();
+}
+
+void setBit(std::vector<uint64_t>& bits, int64_t k) { bits[size_t(k) >> 6] |= uint64_t(1) << (k & 63); }
+
+constexpr int32_t kLowestCode = std::numeric_limits<int16_t>::min();
+constexpr int32_t kHighestCode = std::numeric_limits<int16_t>::max();
+
+}  // namespace
+
 HeightGrid::HeightGrid(int64_t width, int64_t height, double cellSizeXM, double cellSizeYM,
-                       std::vector<float> heightsM, std::vector<uint8_t> valid)
-    : width_(width), height_(height), cellSizeXM_(cellSizeXM), cellSizeYM_(cellSizeYM),
-      heightsM_(std::move(heightsM)), valid_(std::move(valid)) {
+                       std::vector<float> heightsM, std::vector<uint8_t> valid, StoragePolicy policy, double scaleHint)
+    : width_(width), height_(height), cellSizeXM_(cellSizeXM), cellSizeYM_(cellSizeYM), policy_(policy),
+      scaleHint_(scaleHint), heightsM_(std::move(heightsM)) {
     if (width_ < 2 || height_ < 2)
         throw GridError("a height grid needs at least 2 x 2 vertices (one cell), got " + std::to_string(width_) +
                         " x " + std::to_string(height_));
@@ -20,8 +51,15 @@ HeightGrid::HeightGrid(int64_t width, int64_t height, double cellSizeXM, double 
     const auto n = static_cast<size_t>(width_) * static_cast<size_t>(height_);
     if (heightsM_.size() != n)
         throw GridError("expected " + std::to_string(n) + " heights, got " + std::to_string(heightsM_.size()));
-    if (!valid_.empty() && valid_.size() != n)
-        throw GridError("expected " + std::to_string(n) + " validity flags, got " + std::to_string(valid_.size()));
+    if (!valid.empty() && valid.size() != n)
+        throw GridError("expected " + std::to_string(n) + " validity flags, got " + std::to_string(valid.size()));
+    if (std::find(valid.begin(), valid.end(), uint8_t(0)) != valid.end()) {
+        // Pack the flags eight to a byte; the byte-per-vertex input is released right away.
+        valid_.assign((n + 63) / 64, 0);
+        for (size_t k = 0; k < n; ++k)
+            if (valid[k] != 0) setBit(valid_, int64_t(k));
+    }
+    std::vector<uint8_t>().swap(valid);
     finish();
 }
 
@@ -43,18 +81,18 @@ void HeightGrid::finish() {
             hi = std::max(hi, h);
         }
     }
-    if (nodataVertices_ == 0) valid_.clear();
+    if (nodataVertices_ == 0) std::vector<uint64_t>().swap(valid_);
 
-    cellValid_.clear();
+    std::vector<uint64_t>().swap(cellValid_);
     validCells_ = cellsX() * cellsY();
     if (!valid_.empty()) {
-        cellValid_.assign(static_cast<size_t>(cellsX() * cellsY()), 0);
+        cellValid_.assign(static_cast<size_t>(cellsX() * cellsY() + 63) / 64, 0);
         validCells_ = 0;
         for (int64_t j = 0; j < cellsY(); ++j)
             for (int64_t i = 0; i < cellsX(); ++i) {
                 const bool ok = vertexValid(i, j) && vertexValid(i + 1, j) && vertexValid(i, j + 1) &&
                                 vertexValid(i + 1, j + 1);
-                cellValid_[static_cast<size_t>(j * cellsX() + i)] = ok ? 1 : 0;
+                if (ok) setBit(cellValid_, j * cellsX() + i);
                 validCells_ += ok ? 1 : 0;
             }
     }
@@ -62,41 +100,156 @@ void HeightGrid::finish() {
     if (lo > hi) lo = hi = 0.0f;
     minHeightM_ = lo;
     maxHeightM_ = hi;
+    if (policy_ == StoragePolicy::Auto && storage_ == HeightStorage::Float32) chooseStorage();
     buildPyramid();
 }
 
+void HeightGrid::chooseStorage() {
+    // Whole metres first (SRTM, USGS and most integer DEMs), then the source's own unit if we were told it.
+    if (tryInt16(1.0)) return;
+    if (scaleHint_ > 0.0 && std::isfinite(scaleHint_) && scaleHint_ != 1.0) tryInt16(scaleHint_);
+}
+
+// Lossless means the same bits: a valid -0 height (which decodes as +0) keeps the grid in float32.
+bool HeightGrid::tryInt16(double s) {
+    // The lowest valid height gets code -32768, so a range of 65536 codes starts there.
+    const double qlo = std::round(double(minHeightM_) / s), qhi = std::round(double(maxHeightM_) / s);
+    if (!(qhi - qlo <= 65535.0) || !(std::abs(qlo) < 2.0e9) || !(std::abs(qhi) < 2.0e9)) return false;
+    const auto offset = static_cast<int32_t>(int64_t(qlo) - kLowestCode);
+    const auto n = static_cast<size_t>(width_ * height_);
+    std::atomic<bool> lossless{true};
+    const float* h = heightsM_.data();
+    // The code for height z, or false when no code decodes to exactly z's bits.
+    auto encode = [&](float z, int32_t& code) {
+        if (!std::isfinite(z)) return false;
+        const double r = std::round(double(z) / s);
+        if (!(r - qlo >= 0.0 && r - qlo <= 65535.0)) return false;
+        code = int32_t(int64_t(r) - offset);
+        const auto back = float(double(code + offset) * s);
+        return std::bit_cast<uint32_t>(back) == std::bit_cast<uint32_t>(z);
+    };
+    // First only check (stopping at the first valid height that does not round-trip, so float data costs
+    // little), then encode.
+    parallelRanges(height_, width_, [&](int64_t j0, int64_t j1) {
+        for (int64_t j = j0; j < j1 && lossless.load(std::memory_order_relaxed); ++j)
+            for (int64_t i = 0; i < width_; ++i) {
+                int32_t code = 0;
+                if (!encode(h[j * width_ + i], code) && vertexValid(i, j)) {
+                    lossless.store(false, std::memory_order_relaxed);
+                    return;
+                }
+            }
+    });
+    if (!lossless.load()) return false;
+    std::vector<int16_t> codes(n);
+    parallelRanges(int64_t(n), 1, [&](int64_t k0, int64_t k1) {
+        for (int64_t k = k0; k < k1; ++k) {
+            int32_t code = kLowestCode;
+            // A nodata vertex whose value has no code gets the lowest: its value is never used.
+            codes[size_t(k)] = int16_t(encode(h[k], code) ? code : kLowestCode);
+        }
+    });
+    codes_ = std::move(codes);
+    codeOffset_ = offset;
+    codeScale_ = s;
+    storage_ = HeightStorage::Int16;
+    std::vector<float>().swap(heightsM_);
+    return true;
+}
+
+std::vector<float> HeightGrid::copyHeights() const {
+    if (storage_ == HeightStorage::Float32) return heightsM_;
+    std::vector<float> out(codes_.size());
+    parallelRanges(int64_t(codes_.size()), 1, [&](int64_t k0, int64_t k1) {
+        for (int64_t k = k0; k < k1; ++k) out[size_t(k)] = decode(codes_[size_t(k)]);
+    });
+    return out;
+}
+
 void HeightGrid::buildPyramid() {
-    // Level 1 straight from the vertices: block (bi, bj) covers cells 2bi..2bi+1, 2bj..2bj+1, that is
-    // vertices 2bi..2bi+2, 2bj..2bj+2. A cell's own maximum takes only its valid vertices, so a hole cell
-    // next to a valid vertex still bounds it (the traversal's corner handling relies on that).
     const auto start = std::chrono::steady_clock::now();
     pyramid_.clear();
-    constexpr float kNone = -std::numeric_limits<float>::infinity();
-    auto vertexMax = [&](int64_t i, int64_t j) {
-        if (i >= width_ || j >= height_ || !vertexValid(i, j)) return kNone;
-        return at(i, j);
+
+    // The codes' decoding. Int16 heights lend the pyramid their own offset and scale, so a block's code is its
+    // highest vertex code and decodes to exactly that height. Float32 heights get a scale that spreads the
+    // valid range over (a little less than) the 65536 codes, also small enough in relative terms that the
+    // integer offset fits an int32; a height is then rounded up to the first code not below it.
+    if (storage_ == HeightStorage::Int16) {
+        pyramidOffset_ = codeOffset_;
+        pyramidScale_ = codeScale_;
+    } else {
+        const double lo = minHeightM_, hi = maxHeightM_;
+        double s = std::max((hi - lo) / 65000.0, std::max(std::abs(lo), std::abs(hi)) * 0x1p-30);
+        if (!(s > 0.0) || !std::isfinite(s)) s = 1.0;
+        pyramidScale_ = s;
+        pyramidOffset_ = static_cast<int32_t>(int64_t(std::floor(lo / s)) + 32766);  // lo lands near -32766
+    }
+    auto decodeBound = [&](int32_t q) { return float(double(q + pyramidOffset_) * pyramidScale_); };
+    const double perMetre = 1.0 / pyramidScale_;  // only a first guess: the loops below settle the code
+    auto encodeUp = [&](float z) {
+        const double guess = std::ceil(double(z) * perMetre) - double(pyramidOffset_);
+        auto q = static_cast<int32_t>(std::clamp(guess, double(kLowestCode + 1), double(kHighestCode)));
+        while (q < kHighestCode && decodeBound(q) < z) ++q;
+        while (q > kLowestCode + 1 && decodeBound(q - 1) >= z) --q;
+        return int16_t(q);
     };
+
+    // Level 1 straight from the vertices: block (bi, bj) covers cells 2bi..2bi+1, 2bj..2bj+1, that is
+    // vertices 2bi..2bi+2, 2bj..2bj+2. A cell's own maximum takes only its valid vertices, so a hole cell
+    // next to a valid vertex still bounds it (the traversal's corner handling relies on that). Each block row
+    // first takes the column maxima of its three vertex rows, then the maxima of three columns per block.
     int64_t bx = (cellsX() + 1) / 2, by = (cellsY() + 1) / 2;
-    std::vector<float> level(static_cast<size_t>(bx * by));
-    for (int64_t bj = 0; bj < by; ++bj)
-        for (int64_t bi = 0; bi < bx; ++bi) {
-            float m = kNone;
-            for (int64_t j = 2 * bj; j <= std::min(2 * bj + 2, cellsY()); ++j)
-                for (int64_t i = 2 * bi; i <= std::min(2 * bi + 2, cellsX()); ++i) m = std::max(m, vertexMax(i, j));
-            level[static_cast<size_t>(bj * bx + bi)] = m;
-        }
+    std::vector<int16_t> level(static_cast<size_t>(bx * by));
+    auto levelOne = [&](auto get, auto none, auto toCode) {
+        parallelRanges(by, 3 * width_, [&](int64_t b0, int64_t b1) {
+            std::vector<decltype(none)> column(static_cast<size_t>(width_), none);
+            for (int64_t bj = b0; bj < b1; ++bj) {
+                std::fill(column.begin(), column.end(), none);
+                for (int64_t j = 2 * bj; j <= std::min(2 * bj + 2, cellsY()); ++j) {
+                    const int64_t row = j * width_;
+                    if (valid_.empty()) {
+                        for (int64_t i = 0; i < width_; ++i) column[size_t(i)] = std::max(column[size_t(i)], get(row + i));
+                    } else {
+                        for (int64_t i = 0; i < width_; ++i)
+                            if (bit(valid_, row + i)) column[size_t(i)] = std::max(column[size_t(i)], get(row + i));
+                    }
+                }
+                for (int64_t bi = 0; bi < bx; ++bi) {
+                    auto m = none;
+                    for (int64_t i = 2 * bi; i <= std::min(2 * bi + 2, cellsX()); ++i) m = std::max(m, column[size_t(i)]);
+                    level[size_t(bj * bx + bi)] = toCode(m);
+                }
+            }
+        });
+    };
+    if (storage_ == HeightStorage::Int16) {
+        const int16_t* codes = codes_.data();
+        levelOne([codes](int64_t k) { return codes[k]; }, int16_t(kLowestCode), [](int16_t q) { return q; });
+    } else {
+        const float* h = heightsM_.data();
+        constexpr float kNone = -std::numeric_limits<float>::infinity();
+        levelOne([h](int64_t k) { return h[k]; }, kNone,
+                 [&](float z) { return z == kNone ? int16_t(kLowestCode) : encodeUp(z); });
+    }
     pyramid_.push_back(std::move(level));
+
+    // Each further level from the one below; codes order as heights do, so the maximum code is the bound.
     while (bx > 1 || by > 1) {
-        const auto& prev = pyramid_.back();
+        const std::vector<int16_t>& prev = pyramid_.back();
         const int64_t px = bx, py = by;
         bx = (bx + 1) / 2;
         by = (by + 1) / 2;
-        std::vector<float> next(static_cast<size_t>(bx * by), kNone);
-        for (int64_t j = 0; j < py; ++j)
-            for (int64_t i = 0; i < px; ++i) {
-                float& m = next[static_cast<size_t>((j / 2) * bx + i / 2)];
-                m = std::max(m, prev[static_cast<size_t>(j * px + i)]);
-            }
+        std::vector<int16_t> next(static_cast<size_t>(bx * by));
+        parallelRanges(by, 4 * bx, [&](int64_t b0, int64_t b1) {
+            for (int64_t bj = b0; bj < b1; ++bj)
+                for (int64_t bi = 0; bi < bx; ++bi) {
+                    int16_t m = int16_t(kLowestCode);
+                    for (int64_t j = 2 * bj; j <= std::min(2 * bj + 1, py - 1); ++j)
+                        for (int64_t i = 2 * bi; i <= std::min(2 * bi + 1, px - 1); ++i)
+                            m = std::max(m, prev[size_t(j * px + i)]);
+                    next[size_t(bj * bx + bi)] = m;
+                }
+        });
         pyramid_.push_back(std::move(next));
     }
     pyramidBuildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -105,14 +258,26 @@ void HeightGrid::buildPyramid() {
 void HeightGrid::scaleHeights(float k) {
     if (!std::isfinite(k) || k <= 0.0f)
         throw GridError("vertical exaggeration must be positive and finite, got " + std::to_string(k));
+    // Scale in float exactly as a Float32 grid would, then let the storage be chosen again; the scaled source
+    // unit is the natural candidate scale.
+    if (storage_ == HeightStorage::Int16) {
+        heightsM_ = copyHeights();
+        scaleHint_ = codeScale_;
+        std::vector<int16_t>().swap(codes_);
+        storage_ = HeightStorage::Float32;
+        codeOffset_ = 0;
+        codeScale_ = 1.0;
+    }
+    scaleHint_ *= double(k);
     for (float& h : heightsM_) h *= k;
     finish();
 }
 
 size_t HeightGrid::memoryBytes() const {
     size_t pyramid = 0;
-    for (const auto& level : pyramid_) pyramid += level.capacity() * sizeof(float);
-    return heightsM_.capacity() * sizeof(float) + valid_.capacity() + cellValid_.capacity() + pyramid;
+    for (const auto& level : pyramid_) pyramid += level.capacity() * sizeof(int16_t);
+    return heightsM_.capacity() * sizeof(float) + codes_.capacity() * sizeof(int16_t) +
+           (valid_.capacity() + cellValid_.capacity()) * sizeof(uint64_t) + pyramid;
 }
 
 }  // namespace terracast

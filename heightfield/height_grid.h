@@ -1,4 +1,5 @@
-// The height grid: W x H vertices of float32 heights on a regular metric lattice, with a nodata mask.
+// The height grid: W x H vertices on a regular metric lattice, with a nodata mask. Heights are kept as float32,
+// or as int16 codes with an integer offset and a scale when that reproduces every valid height exactly.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -16,6 +17,18 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// How the heights are held in memory.
+enum class HeightStorage {
+    Float32,  // 4 bytes per vertex, the heights as given
+    Int16,    // 2 bytes per vertex: height = float(double(int32_t(code) + codeOffset()) * codeScale())
+};
+
+// What the constructor may choose.
+enum class StoragePolicy {
+    Auto,     // int16 codes when every valid height round-trips bit for bit, float32 otherwise
+    Float32,  // always float32
+};
+
 // Vertex (i, j) sits at local position (i * cellSizeXM, j * cellSizeYM, height(i, j)); j grows northward.
 // Cell (i, j) spans vertices i..i+1 and j..j+1. A cell touching a nodata vertex is a hole.
 class HeightGrid {
@@ -25,8 +38,11 @@ public:
     // Builds a grid from row-major heights (row j = southmost first). `valid` is empty (every vertex valid)
     // or holds one flag per vertex. Throws GridError on a size mismatch, fewer than 2 x 2 vertices,
     // non-positive cell sizes or a non-finite height at a valid vertex.
+    // With StoragePolicy::Auto the heights are stored as int16 codes when that is lossless, trying a scale of
+    // 1 m per code first and then `scaleHint` (metres per stored unit of the source, e.g. a PNG height scale or
+    // a GDAL band scale; 0 for none). The float array is then released.
     HeightGrid(int64_t width, int64_t height, double cellSizeXM, double cellSizeYM, std::vector<float> heightsM,
-               std::vector<uint8_t> valid = {});
+               std::vector<uint8_t> valid = {}, StoragePolicy policy = StoragePolicy::Auto, double scaleHint = 0.0);
 
     int64_t width() const { return width_; }    // vertices along x
     int64_t height() const { return height_; }  // vertices along y
@@ -35,14 +51,22 @@ public:
     double cellSizeXM() const { return cellSizeXM_; }
     double cellSizeYM() const { return cellSizeYM_; }
 
-    float at(int64_t i, int64_t j) const { return heightsM_[static_cast<size_t>(j * width_ + i)]; }
-    bool vertexValid(int64_t i, int64_t j) const {
-        return valid_.empty() || valid_[static_cast<size_t>(j * width_ + i)] != 0;
+    float at(int64_t i, int64_t j) const {
+        const auto k = static_cast<size_t>(j * width_ + i);
+        return storage_ == HeightStorage::Int16 ? decode(codes_[k]) : heightsM_[k];
     }
+    bool vertexValid(int64_t i, int64_t j) const { return valid_.empty() || bit(valid_, j * width_ + i); }
     // True when all four corners of cell (i, j) are valid.
-    bool cellValid(int64_t i, int64_t j) const {
-        return cellValid_.empty() || cellValid_[static_cast<size_t>(j * cellsX() + i)] != 0;
-    }
+    bool cellValid(int64_t i, int64_t j) const { return cellValid_.empty() || bit(cellValid_, j * cellsX() + i); }
+
+    // The storage chosen, and raw access for hot loops (row-major, row j = southmost first).
+    HeightStorage storage() const { return storage_; }
+    const float* float32Heights() const { return storage_ == HeightStorage::Float32 ? heightsM_.data() : nullptr; }
+    const int16_t* int16Codes() const { return storage_ == HeightStorage::Int16 ? codes_.data() : nullptr; }
+    int32_t codeOffset() const { return codeOffset_; }  // meaningful for Int16 storage only
+    double codeScale() const { return codeScale_; }     // metres per code step; Int16 storage only
+    // Every vertex's height as float (nodata vertices hold an unspecified finite or given value).
+    std::vector<float> copyHeights() const;
     bool hasNodata() const { return !valid_.empty(); }
     int64_t nodataVertexCount() const { return nodataVertices_; }
     int64_t validCellCount() const { return validCells_; }
@@ -58,41 +82,56 @@ public:
     // Multiplies every height by k (vertical exaggeration).
     void scaleHeights(float k);
 
-    // Bytes held by the grid's own arrays (heights, masks and the max pyramid).
+    // Bytes held by the grid's own arrays (heights, masks and the max pyramid), by capacity.
     size_t memoryBytes() const;
 
     // The maximum pyramid (Tevs, Ihrke, Seidel 2008, "Maximum mipmaps for fast, accurate, and scalable
     // dynamic height field rendering"): level k >= 1 holds, for each block of 2^k x 2^k cells, the highest
-    // valid vertex of its cells (-infinity for a block without one). Level 0 is not stored: it is the cells.
+    // valid vertex of its cells. Level 0 is not stored: it is the cells. Each level is stored as int16 codes,
+    // rounded up so that the decoded value never lies below a height it covers; for Int16 height storage the
+    // codes are the heights' own, so the bound is exact. A block without a valid vertex gets the lowest code.
     int pyramidLevels() const { return int(pyramid_.size()); }
     // Seconds the last pyramid build took.
     double pyramidBuildSeconds() const { return pyramidBuildSeconds_; }
     // Blocks along x and y at level k.
     int64_t pyramidBlocksX(int k) const { return (cellsX() + (int64_t(1) << k) - 1) >> k; }
     int64_t pyramidBlocksY(int k) const { return (cellsY() + (int64_t(1) << k) - 1) >> k; }
-    // The highest valid height in block (bi, bj) of level k (1 <= k <= pyramidLevels()).
-    float blockMaxM(int k, int64_t bi, int64_t bj) const {
-        return pyramid_[size_t(k - 1)][size_t(bj * pyramidBlocksX(k) + bi)];
+    // An upper bound on the valid heights in block (bi, bj) of level k (1 <= k <= pyramidLevels()).
+    double blockMaxM(int k, int64_t bi, int64_t bj) const {
+        const int16_t q = pyramid_[size_t(k - 1)][size_t(bj * pyramidBlocksX(k) + bi)];
+        return double(float(double(int32_t(q) + pyramidOffset_) * pyramidScale_));
     }
 
-    const std::vector<float>& heights() const { return heightsM_; }
-
 private:
+    static bool bit(const std::vector<uint64_t>& bits, int64_t k) {
+        return (bits[static_cast<size_t>(k) >> 6] >> (k & 63)) & 1u;
+    }
+    float decode(int16_t q) const { return float(double(int32_t(q) + codeOffset_) * codeScale_); }
     void finish();
+    bool tryInt16(double scale);
+    void chooseStorage();
     void buildPyramid();
 
     int64_t width_ = 0;
     int64_t height_ = 0;
     double cellSizeXM_ = 1.0;
     double cellSizeYM_ = 1.0;
-    std::vector<float> heightsM_;
-    std::vector<uint8_t> valid_;      // per vertex; empty when all valid
-    std::vector<uint8_t> cellValid_;  // per cell; empty when all valid
+    HeightStorage storage_ = HeightStorage::Float32;
+    StoragePolicy policy_ = StoragePolicy::Auto;
+    double scaleHint_ = 0.0;
+    std::vector<float> heightsM_;     // Float32 storage; empty otherwise
+    std::vector<int16_t> codes_;      // Int16 storage; empty otherwise
+    int32_t codeOffset_ = 0;
+    double codeScale_ = 1.0;
+    std::vector<uint64_t> valid_;      // one bit per vertex; empty when all valid
+    std::vector<uint64_t> cellValid_;  // one bit per cell; empty when all valid
     int64_t nodataVertices_ = 0;
     int64_t validCells_ = 0;
     float minHeightM_ = 0.0f;
     float maxHeightM_ = 0.0f;
-    std::vector<std::vector<float>> pyramid_;  // levels 1..n, row-major blocks
+    std::vector<std::vector<int16_t>> pyramid_;  // levels 1..n, row-major blocks of codes
+    int32_t pyramidOffset_ = 0;
+    double pyramidScale_ = 1.0;
     double pyramidBuildSeconds_ = 0.0;
 };
 

@@ -80,8 +80,9 @@ void checkRasterSize(const std::string& path, int64_t width, int64_t height, dou
 }
 
 // Builds the grid, naming the file in any GridError, and refuses grids without a cell to trace.
+// `metresPerUnit` is the source's vertical unit, offered to the grid as a candidate scale for int16 storage.
 HeightGrid makeGrid(const std::string& path, int64_t width, int64_t height, double cellSizeXM, double cellSizeYM,
-                    std::vector<float> heightsM, std::vector<uint8_t> valid) {
+                    std::vector<float> heightsM, std::vector<uint8_t> valid, double metresPerUnit) {
     const auto sane = [](double m) { return m >= kMinCellSizeM && m <= kMaxCellSizeM; };
     if (!sane(cellSizeXM) || !sane(cellSizeYM))
         throw InputError(fmt::format("{}: cell size {:g} x {:g} m, expected {:g} m to {:g} m (a wrong geotransform or "
@@ -89,7 +90,8 @@ HeightGrid makeGrid(const std::string& path, int64_t width, int64_t height, doub
                                      path, cellSizeXM, cellSizeYM, kMinCellSizeM, kMaxCellSizeM));
     HeightGrid grid;
     try {
-        grid = HeightGrid(width, height, cellSizeXM, cellSizeYM, std::move(heightsM), std::move(valid));
+        grid = HeightGrid(width, height, cellSizeXM, cellSizeYM, std::move(heightsM), std::move(valid),
+                          StoragePolicy::Auto, metresPerUnit);
     } catch (const GridError& e) {
         throw InputError(path + ": " + e.what());
     }
@@ -309,7 +311,7 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, c
         }
     }
     dem.grid = makeGrid(path, width, height, lattice.cellSizeXM, lattice.cellSizeYM, std::move(heightsM),
-                        std::move(valid));
+                        std::move(valid), metresPerRaw);
     return dem;
 }
 
@@ -418,7 +420,8 @@ LoadedDem loadWithImageInput(const std::string& path, const DemLoadOptions& opti
         throw InputError(fmt::format("{}: {} samples, expected 8- or 16-bit unsigned integers", path,
                                      spec.format.c_str()));
 
-    dem.grid = makeGrid(path, width, height, options.imageCellSizeM, options.imageCellSizeM, std::move(heightsM), {});
+    dem.grid = makeGrid(path, width, height, options.imageCellSizeM, options.imageCellSizeM, std::move(heightsM), {},
+                        options.imageHeightScale);
     return dem;
 }
 

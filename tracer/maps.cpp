@@ -100,7 +100,7 @@ MapRaster viewshed(const HeightGrid& grid, const ViewshedSettings& s) {
     const HeightGrid* g = &grid;
     std::optional<HeightGrid> curved;
     if (s.curvatureCoeff != 0.0) {
-        std::vector<float> z(grid.heights());
+        std::vector<float> z = grid.copyHeights();
         std::vector<uint8_t> valid;
         if (grid.hasNodata()) {
             valid.resize(z.size());

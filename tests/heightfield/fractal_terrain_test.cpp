@@ -30,12 +30,13 @@ TEST_CASE("fractal terrain: the same seed gives the same heights, another seed o
     FractalTerrainOptions o;
     o.size = 129;
     const HeightGrid a = fractalTerrain(o), b = fractalTerrain(o);
-    CHECK(a.heights() == b.heights());
+    CHECK(a.copyHeights() == b.copyHeights());
     o.seed = 2;
     const HeightGrid c = fractalTerrain(o);
+    const std::vector<float> za = a.copyHeights(), zc = c.copyHeights();
     int64_t differ = 0;
-    for (size_t k = 0; k < a.heights().size(); ++k) differ += a.heights()[k] != c.heights()[k];
-    CHECK(differ > int64_t(a.heights().size()) * 9 / 10);
+    for (size_t k = 0; k < za.size(); ++k) differ += za[k] != zc[k];
+    CHECK(differ > int64_t(za.size()) * 9 / 10);
 }
 
 TEST_CASE("fractal terrain: a few heights pinned, so a change to the generator is seen", "[heightfield][fractal]") {
@@ -48,7 +49,7 @@ TEST_CASE("fractal terrain: a few heights pinned, so a change to the generator i
     const double expected[] = {35.0780334, 35.921627, 85.8290024, 32.1896629, 18.294838, 23.6912918};
     for (size_t k = 0; k < 6; ++k) {
         INFO("vertex " << k * 13);
-        CHECK(g.heights()[k * 13] == Approx(expected[k]).epsilon(1e-6));
+        CHECK(g.at(int64_t(k * 13) % 9, int64_t(k * 13) / 9) == Approx(expected[k]).epsilon(1e-6));
     }
 }
 
@@ -70,7 +71,7 @@ TEST_CASE("fractal terrain: size, cell size and a mountain-like relief", "[heigh
         const double slope = meanSlopeDeg(g);
         CHECK(slope > 3.0);
         CHECK(slope < 45.0);
-        for (float h : g.heights()) REQUIRE(std::isfinite(h));
+        for (float h : g.copyHeights()) REQUIRE(std::isfinite(h));
     }
 }
 
@@ -107,10 +108,21 @@ TEST_CASE("fractal terrain: its memory is known before it is built", "[heightfie
         FractalTerrainOptions o;
         o.size = size;
         INFO("size " << size);
-        CHECK(fractalTerrainBytes(size) == int64_t(fractalTerrain(o).memoryBytes()));
+        const HeightGrid g = fractalTerrain(o);
+        CHECK(g.storage() == HeightStorage::Float32);
+        CHECK(fractalTerrainBytes(size) == int64_t(g.memoryBytes()));
+        o.integerHeights = true;
+        const HeightGrid whole = fractalTerrain(o);
+        CHECK(whole.storage() == HeightStorage::Int16);
+        CHECK(fractalTerrainBytes(size, true) == int64_t(whole.memoryBytes()));
     }
-    // 32769^2 float heights alone are 4 GiB; the pyramid adds about a third of the cells' floats.
+    // 32769^2 float heights alone are 4 GiB; the int16 pyramid adds a sixth of that (2 bytes per 4 cells,
+    // and a third more for the coarser levels). Integer heights halve the heights' share.
+    const double gib = 1024.0 * 1024 * 1024;
     const double big = double(fractalTerrainBytes(32769));
-    CHECK(big > 4.0 * 1024 * 1024 * 1024 * 1.3);
-    CHECK(big < 4.0 * 1024 * 1024 * 1024 * 1.4);
+    CHECK(big > 4.0 * gib * 1.16);
+    CHECK(big < 4.0 * gib * 1.17);
+    const double whole = double(fractalTerrainBytes(32769, true));
+    CHECK(whole > 2.0 * gib * 1.33);
+    CHECK(whole < 2.0 * gib * 1.34);
 }

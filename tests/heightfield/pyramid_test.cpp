@@ -66,17 +66,22 @@ TEST_CASE("Pyramid levels bound every cell's valid heights", "[heightfield][pyra
     REQUIRE(g.pyramidLevels() >= 5);
     CHECK(g.pyramidBlocksX(g.pyramidLevels()) == 1);
     CHECK(g.pyramidBlocksY(g.pyramidLevels()) == 1);
-    CHECK(g.blockMaxM(g.pyramidLevels(), 0, 0) == g.maxHeightM());
+    // Float heights: the int16 pyramid rounds up, by less than a 65000th of the height range.
+    REQUIRE(g.storage() == HeightStorage::Float32);
+    const double step = (double(g.maxHeightM()) - g.minHeightM()) / 65000.0;
+    CHECK(g.blockMaxM(g.pyramidLevels(), 0, 0) >= g.maxHeightM());
+    CHECK(g.blockMaxM(g.pyramidLevels(), 0, 0) <= g.maxHeightM() + step);
     for (int k = 1; k <= g.pyramidLevels(); ++k)
         for (int64_t j = 0; j < g.cellsY(); ++j)
             for (int64_t i = 0; i < g.cellsX(); ++i) {
                 const float m = std::max({g.at(i, j), g.at(i + 1, j), g.at(i, j + 1), g.at(i + 1, j + 1)});
                 REQUIRE(g.blockMaxM(k, i >> k, j >> k) >= m);
             }
-    // Tight at level 1: the block's max is one of its vertices.
+    // Nearly tight at level 1: the block's max is one of its vertices, rounded up to the next code.
     const float m = std::max({g.at(0, 0), g.at(1, 0), g.at(2, 0), g.at(0, 1), g.at(1, 1), g.at(2, 1), g.at(0, 2),
                               g.at(1, 2), g.at(2, 2)});
-    CHECK(g.blockMaxM(1, 0, 0) == m);
+    CHECK(g.blockMaxM(1, 0, 0) >= m);
+    CHECK(g.blockMaxM(1, 0, 0) <= m + step);
 }
 
 TEST_CASE("Pyramid traversal gives exactly the flat walk's hits on real DEMs", "[heightfield][pyramid]") {
