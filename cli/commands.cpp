@@ -442,7 +442,6 @@ struct RenderPhaseSeconds {
 // `phases` when given.
 void renderPerspective(const RenderOptions& o, RenderPhaseSeconds* phases) {
     using Clock = std::chrono::steady_clock;
-    const auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
     const auto start = Clock::now();
     checkOutputPath(o.output, o.dem.path);
     checkViewValues(o.exaggeration, o.sunElevationDeg);
@@ -475,11 +474,15 @@ void renderPerspective(const RenderOptions& o, RenderPhaseSeconds* phases) {
     const auto rendered = Clock::now();
     writeImage(o.output, RgbImage{film.width, film.height, std::move(film.rgb)});
     if (phases) {
-        phases->write = since(rendered);
-        phases->total = since(start);
-        phases->load = std::chrono::duration<double>(loaded - start).count();
-        phases->build = std::chrono::duration<double>(built - loaded).count();
-        phases->render = std::chrono::duration<double>(rendered - built).count();
+        const auto written = Clock::now();
+        const auto seconds = [](Clock::time_point a, Clock::time_point b) {
+            return std::chrono::duration<double>(b - a).count();
+        };
+        phases->load = seconds(start, loaded);
+        phases->build = seconds(loaded, built);
+        phases->render = seconds(built, rendered);
+        phases->write = seconds(rendered, written);
+        phases->total = seconds(start, written);
     }
     if (!o.quiet) {
         const int64_t rays = stats.primaryRays + stats.shadowRays + stats.skyVisibilityRays;
