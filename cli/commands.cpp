@@ -1,5 +1,7 @@
 #include "cli/commands.h"
 
+#include "cli/height_png.h"
+
 #include "loaders/dem_loader.h"
 #include "loaders/errors.h"
 #include "loaders/image_io.h"
@@ -19,6 +21,7 @@
 #include <fmt/core.h>
 
 #include <sys/resource.h>
+#include <stdlib.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -28,6 +31,7 @@
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
+#include <limits>
 #include <sstream>
 #include <thread>
 
@@ -423,46 +427,81 @@ int renderMap(const RenderOptions& o) {
 
 }  // namespace
 
+namespace {
+
+// Wall-clock seconds of the phases of one perspective render, as `render` runs it.
+struct RenderPhaseSeconds {
+    double load = 0.0;    // reading the DEM (and, for the direct tracer, making its pyramid) and setting the view
+    double build = 0.0;   // the surface: nothing more for the direct tracer, Embree's buffers and BVH
+    double render = 0.0;  // tracing and shading the picture
+    double write = 0.0;   // encoding and writing the picture
+    double total = 0.0;   // from the first check of the options to the picture on disk
+};
+
+// `render` without --view map: checks, loads, builds, renders and writes. Throws as the commands do; fills
+// `phases` when given.
+void renderPerspective(const RenderOptions& o, RenderPhaseSeconds* phases) {
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
+    checkOutputPath(o.output, o.dem.path);
+    checkViewValues(o.exaggeration, o.sunElevationDeg);
+    if (o.skySamples < -1 || o.skySamples > 4096)
+        throw InputError(fmt::format("--sky-samples: expected 0..4096, found {}", o.skySamples));
+    if (!(o.haze >= 0.0 && o.haze <= 1000.0))
+        throw InputError(fmt::format("--haze: expected a number in 0..1000, found {}", o.haze));
+    const SkyKind sky = parseSkyOption(o.sky);
+    LoadedDem dem = load(o.dem);
+    HeightGrid& grid = dem.grid;
+    double sunAzimuthDeg = o.sunAzimuthDeg, sunElevationDeg = o.sunElevationDeg;
+    applySunTime(o, dem, sunAzimuthDeg, sunElevationDeg);
+    TerrainRenderSettings s = makeView(grid, o.width, o.height, sunAzimuthDeg, sunElevationDeg, o.exaggeration,
+                                       o.camera, o.threads);
+    s.sky.kind = sky;
+    s.sky.haze = o.haze;
+    s.sky.samples = o.skySamples < 0 ? 4 : o.skySamples;
+    s.seed = o.seed;
+    TerminalProgress progress(!o.quiet);
+    s.progress = [&](double f, int64_t rays) { progress.update(f, rays); };
+
+    checkMemory(o.dem, grid, double(o.width) * o.height * 12.0 + embreeBytesEstimate(o.method, grid),
+                fmt::format("rendering {}x{} with {}", o.width, o.height, surfaceMethodName(o.method)));
+    const auto loaded = Clock::now();
+    const TerrainSurface surface(grid, o.method, o.threads);
+    const auto built = Clock::now();
+    RenderStats stats;
+    Film film = renderTerrain(grid, surface, s, &stats);
+    progress.finish();
+    const auto rendered = Clock::now();
+    writeImage(o.output, RgbImage{film.width, film.height, std::move(film.rgb)});
+    if (phases) {
+        const auto written = Clock::now();
+        const auto seconds = [](Clock::time_point a, Clock::time_point b) {
+            return std::chrono::duration<double>(b - a).count();
+        };
+        phases->load = seconds(start, loaded);
+        phases->build = seconds(loaded, built);
+        phases->render = seconds(built, rendered);
+        phases->write = seconds(rendered, written);
+        phases->total = seconds(start, written);
+    }
+    if (!o.quiet) {
+        const int64_t rays = stats.primaryRays + stats.shadowRays + stats.skyVisibilityRays;
+        fmt::print(stderr,
+                   "terracast: rendered {} ({}x{}, {}, {} sky) in {:.2f} s: {} primary + {} shadow + {} sky-visibility "
+                   "rays, {:.2f} Mrays/s, peak memory {}\n",
+                   o.output, o.width, o.height, surfaceMethodName(o.method), o.sky, stats.seconds,
+                   stats.primaryRays, stats.shadowRays, stats.skyVisibilityRays,
+                   stats.seconds > 0 ? double(rays) / stats.seconds * 1e-6 : 0.0,
+                   humanBytes(peakResidentBytes()));
+    }
+}
+
+}  // namespace
+
 int runRender(const RenderOptions& o) {
     return guarded([&] {
         if (o.mapView) return renderMap(o);
-        checkOutputPath(o.output, o.dem.path);
-        checkViewValues(o.exaggeration, o.sunElevationDeg);
-        if (o.skySamples < -1 || o.skySamples > 4096)
-            throw InputError(fmt::format("--sky-samples: expected 0..4096, found {}", o.skySamples));
-        if (!(o.haze >= 0.0 && o.haze <= 1000.0))
-            throw InputError(fmt::format("--haze: expected a number in 0..1000, found {}", o.haze));
-        const SkyKind sky = parseSkyOption(o.sky);
-        LoadedDem dem = load(o.dem);
-        HeightGrid& grid = dem.grid;
-        double sunAzimuthDeg = o.sunAzimuthDeg, sunElevationDeg = o.sunElevationDeg;
-        applySunTime(o, dem, sunAzimuthDeg, sunElevationDeg);
-        TerrainRenderSettings s = makeView(grid, o.width, o.height, sunAzimuthDeg, sunElevationDeg, o.exaggeration,
-                                           o.camera, o.threads);
-        s.sky.kind = sky;
-        s.sky.haze = o.haze;
-        s.sky.samples = o.skySamples < 0 ? 4 : o.skySamples;
-        s.seed = o.seed;
-        TerminalProgress progress(!o.quiet);
-        s.progress = [&](double f, int64_t rays) { progress.update(f, rays); };
-
-        checkMemory(o.dem, grid, double(o.width) * o.height * 12.0 + embreeBytesEstimate(o.method, grid),
-                    fmt::format("rendering {}x{} with {}", o.width, o.height, surfaceMethodName(o.method)));
-        const TerrainSurface surface(grid, o.method, o.threads);
-        RenderStats stats;
-        Film film = renderTerrain(grid, surface, s, &stats);
-        progress.finish();
-        writeImage(o.output, RgbImage{film.width, film.height, std::move(film.rgb)});
-        if (!o.quiet) {
-            const int64_t rays = stats.primaryRays + stats.shadowRays + stats.skyVisibilityRays;
-            fmt::print(stderr,
-                       "terracast: rendered {} ({}x{}, {}, {} sky) in {:.2f} s: {} primary + {} shadow + {} sky-visibility "
-                       "rays, {:.2f} Mrays/s, peak memory {}\n",
-                       o.output, o.width, o.height, surfaceMethodName(o.method), o.sky, stats.seconds,
-                       stats.primaryRays, stats.shadowRays, stats.skyVisibilityRays,
-                       stats.seconds > 0 ? double(rays) / stats.seconds * 1e-6 : 0.0,
-                       humanBytes(peakResidentBytes()));
-        }
+        renderPerspective(o, nullptr);
         return 0;
     });
 }
@@ -916,6 +955,222 @@ std::string benchGridJson(const BenchJob& job, const BenchGridResult& r, const B
     return j + "]}";
 }
 
+// The processor's model name from /proc/cpuinfo, or empty where there is none.
+std::string cpuModelName() {
+    std::ifstream in("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("model name", 0) == 0) {
+            const auto colon = line.find(':');
+            if (colon == std::string::npos) break;
+            const auto first = line.find_first_not_of(" \t", colon + 1);
+            return first == std::string::npos ? std::string() : line.substr(first);
+        }
+    return {};
+}
+
+// Refuses, before any work, an output file whose folder does not exist.
+void checkOutputFolder(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const auto dir = fs::path(path).parent_path();
+    if (!dir.empty() && !fs::is_directory(dir, ec))
+        throw InputError(fmt::format("{}: output folder '{}' does not exist", path, dir.string()));
+}
+
+// A folder of its own under the system's temporary folder, removed with all it holds on destruction.
+class ScratchFolder {
+public:
+    ScratchFolder() {
+        std::string pattern = (std::filesystem::temp_directory_path() / "terracast-bench-XXXXXX").string();
+        if (!mkdtemp(pattern.data())) throw std::runtime_error("cannot make a temporary folder under " + pattern);
+        path_ = pattern;
+    }
+    ~ScratchFolder() {
+        std::error_code ec;
+        std::filesystem::remove_all(path_, ec);
+    }
+    ScratchFolder(const ScratchFolder&) = delete;
+    ScratchFolder& operator=(const ScratchFolder&) = delete;
+    const std::filesystem::path& path() const { return path_; }
+
+private:
+    std::filesystem::path path_;
+};
+
+// `bench --file-to-picture`: the whole `render FILE.png` job with one method.
+struct FileToPictureRun {
+    BenchMethod method = BenchMethod::Bilinear;
+    bool skipped = false;       // estimated over --max-memory; nothing below is measured
+    double neededBytes = 0.0;   // when skipped
+    RenderPhaseSeconds seconds;
+    int64_t pictureBytes = 0;   // the PNG written
+    int pictureWidth = 0;       // as read back
+    int pictureHeight = 0;
+};
+
+struct FileToPictureResult {
+    std::string name;                  // "synthetic-8193"
+    int64_t size = 0;                  // vertices per side
+    bool skipped = false;              // the height map itself would not fit; nothing below is measured
+    double neededBytes = 0.0;
+    double makeSeconds = 0.0;          // the fractal grid
+    double heightMapSeconds = 0.0;     // encoding and writing the 16-bit PNG
+    int64_t heightMapBytes = 0;
+    int threads = 1;
+    RenderOptions render;              // as run, less the paths
+    std::vector<FileToPictureRun> runs;
+    double totalRatio = std::numeric_limits<double>::quiet_NaN();          // total(embree) / total(bilinear)
+    double pictureMeanAbsDiff = std::numeric_limits<double>::quiet_NaN();  // 8-bit levels, over all channels
+};
+
+// Makes the fractal grid of `size`, writes it as a 16-bit PNG height map into a scratch folder, then runs
+// `render` on it as a user would (--cell-size 30 --size 1024x768 --threads N) with bilinear and with embree,
+// each picture written into the same folder; reads both pictures back to compare them, then removes the folder.
+FileToPictureResult fileToPicture(int64_t size, uint64_t seed, int threads, double maxMemoryBytes, double limit,
+                                  const std::function<void(const std::string&)>& onStep) {
+    using Clock = std::chrono::steady_clock;
+    const auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
+    FileToPictureResult out;
+    out.name = fmt::format("synthetic-{}", size);
+    out.size = size;
+    out.threads = threads;
+    out.render.dem.imageCellSizeM = 30.0;
+    out.render.dem.maxMemoryBytes = maxMemoryBytes;
+    out.render.width = 1024;
+    out.render.height = 768;
+    out.render.threads = threads;
+    out.render.quiet = true;
+    const BenchMethod methods[] = {BenchMethod::Bilinear, BenchMethod::Embree};
+    for (BenchMethod m : methods) {
+        FileToPictureRun run;
+        run.method = m;
+        out.runs.push_back(run);
+    }
+
+    // While the height map is made: the grid, its scanlines and their deflated copy (at most about as big).
+    const double vertices = double(size) * double(size);
+    const double mapNeed = double(fractalTerrainBytes(size)) + 4.1 * vertices;
+    if (mapNeed > limit) {
+        out.skipped = true;
+        out.neededBytes = mapNeed;
+        return out;
+    }
+    ScratchFolder scratch;
+    const std::string heightMap = (scratch.path() / "height.png").string();
+    {
+        if (onStep) onStep("making the grid");
+        const auto made = Clock::now();
+        FractalTerrainOptions fo;
+        fo.size = size;
+        fo.seed = seed;
+        const HeightGrid grid = fractalTerrain(fo);
+        out.makeSeconds = since(made);
+        // What render will hold: the grid as loaded (as big as this one), the loader's 16-bit samples, the
+        // film, and Embree's scene.
+        for (auto& run : out.runs) {
+            const double need = double(grid.memoryBytes()) + 2.0 * vertices + double(out.render.width) *
+                                out.render.height * 12.0 + embreeBytesEstimate(benchSurfaceMethod(run.method), grid);
+            if (need > limit) {
+                run.skipped = true;
+                run.neededBytes = need;
+            }
+        }
+        if (onStep) onStep("writing the 16-bit PNG height map");
+        const auto written = Clock::now();
+        const std::string png = encodeHeightPng16(grid);
+        writeFileAtomically(heightMap, png);
+        out.heightMapSeconds = since(written);
+        out.heightMapBytes = int64_t(png.size());
+    }
+
+    std::vector<RgbImage> pictures;
+    for (auto& run : out.runs) {
+        if (run.skipped) continue;
+        if (onStep) onStep(fmt::format("render {} with {}", std::filesystem::path(heightMap).filename().string(),
+                                       benchMethodName(run.method)));
+        RenderOptions ro = out.render;
+        ro.dem.path = heightMap;
+        ro.output = (scratch.path() / (std::string(benchMethodName(run.method)) + ".png")).string();
+        ro.method = benchSurfaceMethod(run.method);
+        renderPerspective(ro, &run.seconds);
+        run.pictureBytes = int64_t(std::filesystem::file_size(ro.output));
+        pictures.push_back(readImage(ro.output));
+        run.pictureWidth = pictures.back().width;
+        run.pictureHeight = pictures.back().height;
+    }
+    if (!out.runs[0].skipped && !out.runs[1].skipped) {
+        out.totalRatio = out.runs[1].seconds.total / out.runs[0].seconds.total;
+        const RgbImage& a = pictures[0];
+        const RgbImage& b = pictures[1];
+        if (a.width == b.width && a.height == b.height && !a.rgb.empty()) {
+            // The 8-bit sRGB levels the PNGs store.
+            const auto level = [](float v) { return std::lround(255.0f * srgbFromLinear(v)); };
+            double sum = 0.0;
+            for (size_t k = 0; k < a.rgb.size(); ++k) sum += double(std::labs(level(a.rgb[k]) - level(b.rgb[k])));
+            out.pictureMeanAbsDiff = sum / double(a.rgb.size());
+        }
+    }
+    return out;
+}
+
+std::string fileToPictureJson(const FileToPictureResult& f) {
+    std::string j = fmt::format("{{\"dem\": {}, \"width\": {}, \"height\": {}, \"cell_size_m\": {}, \"skipped\": {}",
+                                jsonString(f.name), f.size, f.size, jsonNumber(f.render.dem.imageCellSizeM),
+                                f.skipped ? "true" : "false");
+    if (f.skipped) return j + fmt::format(", \"memory_needed_bytes\": {}, \"methods\": []}}", jsonNumber(f.neededBytes));
+    j += fmt::format(", \"make_s\": {}, \"height_map_write_s\": {}, \"height_map_bytes\": {}, \"image_width\": {}, "
+                     "\"image_height\": {}, \"threads\": {}, \"sky\": {}, \"sky_samples\": {},\n  \"methods\": [",
+                     jsonNumber(f.makeSeconds), jsonNumber(f.heightMapSeconds), f.heightMapBytes, f.render.width,
+                     f.render.height, f.threads, jsonString(f.render.sky), f.render.skySamples < 0 ? 4 : f.render.skySamples);
+    for (size_t k = 0; k < f.runs.size(); ++k) {
+        const auto& r = f.runs[k];
+        j += k ? ",\n   " : "\n   ";
+        if (r.skipped) {
+            j += fmt::format("{{\"name\": \"{}\", \"skipped\": true, \"memory_needed_bytes\": {}}}",
+                             benchMethodName(r.method), jsonNumber(r.neededBytes));
+            continue;
+        }
+        j += fmt::format("{{\"name\": \"{}\", \"skipped\": false, \"load_s\": {}, \"build_s\": {}, \"render_s\": {}, "
+                         "\"write_s\": {}, \"total_s\": {}, \"picture_bytes\": {}, \"picture_width\": {}, "
+                         "\"picture_height\": {}}}",
+                         benchMethodName(r.method), jsonNumber(r.seconds.load), jsonNumber(r.seconds.build),
+                         jsonNumber(r.seconds.render), jsonNumber(r.seconds.write), jsonNumber(r.seconds.total),
+                         r.pictureBytes, r.pictureWidth, r.pictureHeight);
+    }
+    return j + fmt::format("],\n  \"total_ratio_embree_to_bilinear\": {}, \"picture_mean_abs_diff\": {}}}",
+                           jsonNumber(f.totalRatio), jsonNumber(f.pictureMeanAbsDiff));
+}
+
+void printFileToPicture(const FileToPictureResult& f, double limit) {
+    if (f.skipped) {
+        fmt::print("\nfile to picture ({}): skipped: making the height map needs about {}, more than the {} limit "
+                   "(--max-memory)\n",
+                   f.name, humanBytes(f.neededBytes), humanBytes(limit));
+        return;
+    }
+    const RenderOptions& r = f.render;
+    fmt::print("\nfile to picture: {} made in {:.2f} s, written as a 16-bit PNG height map ({}) in {:.2f} s; then "
+               "`render FILE.png --cell-size {:g} --size {}x{} --threads {} --method M -o OUT.png` (sun {:g},{:g}, "
+               "shadows, {} sky, {} sky rays per hit)\n",
+               f.name, f.makeSeconds, humanBytes(double(f.heightMapBytes)), f.heightMapSeconds, r.dem.imageCellSizeM,
+               r.width, r.height, f.threads, r.sunAzimuthDeg, r.sunElevationDeg, r.sky,
+               r.skySamples < 0 ? 4 : r.skySamples);
+    fmt::print("{:<14} {:>8} {:>8} {:>8} {:>8} {:>8}\n", "method", "load s", "build s", "render s", "write s", "total s");
+    for (const auto& run : f.runs) {
+        if (run.skipped) {
+            fmt::print("{:<14} skipped: needs about {}, more than the {} limit (--max-memory)\n",
+                       benchMethodName(run.method), humanBytes(run.neededBytes), humanBytes(limit));
+            continue;
+        }
+        fmt::print("{:<14} {:>8.3f} {:>8.3f} {:>8.3f} {:>8.3f} {:>8.3f}\n", benchMethodName(run.method),
+                   run.seconds.load, run.seconds.build, run.seconds.render, run.seconds.write, run.seconds.total);
+    }
+    if (std::isfinite(f.totalRatio))
+        fmt::print("total embree / bilinear: {:.2f}; the two pictures differ by {:.2f} of 255 on average (8-bit sRGB)\n",
+                   f.totalRatio, f.pictureMeanAbsDiff);
+}
+
 }  // namespace
 
 int runBench(const BenchCommandOptions& o) {
@@ -923,13 +1178,8 @@ int runBench(const BenchCommandOptions& o) {
         std::vector<int64_t> sizes = parseBenchSizes(o.sizes);
         if (o.large && std::find(sizes.begin(), sizes.end(), int64_t(32769)) == sizes.end()) sizes.push_back(32769);
         if (o.threads < 0) throw InputError(fmt::format("--threads: expected 0 (all cores) or more, found {}", o.threads));
-        if (!o.json.empty()) {
-            namespace fs = std::filesystem;
-            std::error_code ec;
-            const auto dir = fs::path(o.json).parent_path();
-            if (!dir.empty() && !fs::is_directory(dir, ec))
-                throw InputError(fmt::format("{}: output folder '{}' does not exist", o.json, dir.string()));
-        }
+        if (!o.json.empty()) checkOutputFolder(o.json);
+        if (!o.svg.empty()) checkOutputFolder(o.svg);
         std::vector<BenchJob> jobs;
         for (int64_t size : sizes) jobs.push_back({fmt::format("synthetic-{}", size), size, ""});
         if (o.real)
@@ -946,17 +1196,21 @@ int runBench(const BenchCommandOptions& o) {
         const double passBytes = double(settings.width) * settings.height *
                                  double(sizeof(std::optional<HeightFieldHit>) + sizeof(glm::dvec3) + 1 + 12 + 8 + 8);
         const bool terminal = isatty(fileno(stderr));
+        const std::string cpu = cpuModelName();
+        const std::string machine = fmt::format("{}{} hardware thread{}", cpu.empty() ? "" : cpu + ", ", hardware,
+                                                hardware == 1 ? "" : "s");
 
         fmt::print("terracast bench: {} x {} camera rays per view (corner: south-west, 30 degrees down; grazing: above "
                    "the highest peak, 8 degrees down), sun at azimuth {:g}, elevation {:g} degrees, one shadow ray per "
-                   "hit facing it; {} thread{} (of {}); FTZ/DAZ on for every method\n",
+                   "hit facing it; {} thread{} ({}); FTZ/DAZ on for every method\n",
                    settings.width, settings.height, settings.sunAzimuthDeg, settings.sunElevationDeg,
-                   most > 1 ? fmt::format("1 and {}", most) : "1", most > 1 ? "s" : "", hardware);
+                   most > 1 ? fmt::format("1 and {}", most) : "1", most > 1 ? "s" : "", machine);
         std::string json = fmt::format("{{\"image_width\": {}, \"image_height\": {}, \"sun_azimuth_deg\": {}, "
-                                       "\"sun_elevation_deg\": {}, \"hardware_threads\": {}, \"threads\": [{}],\n \"grids\": [",
+                                       "\"sun_elevation_deg\": {}, \"cpu\": {}, \"hardware_threads\": {}, \"threads\": [{}],\n \"grids\": [",
                                        settings.width, settings.height, jsonNumber(settings.sunAzimuthDeg),
-                                       jsonNumber(settings.sunElevationDeg), hardware,
+                                       jsonNumber(settings.sunElevationDeg), jsonString(cpu), hardware,
                                        most > 1 ? fmt::format("1, {}", most) : "1");
+        std::vector<BenchGridResult> plotted;  // the synthetic grids measured, for --svg
         const auto start = std::chrono::steady_clock::now();
         for (size_t g = 0; g < jobs.size(); ++g) {
             const BenchJob& job = jobs[g];
@@ -1027,14 +1281,35 @@ int runBench(const BenchCommandOptions& o) {
                 }
             }
             json += benchGridJson(job, r, settings);
+            if (job.size > 0) plotted.push_back(r);
+        }
+        json += "\n ],\n \"file_to_picture\": ";
+        if (o.fileToPicture) {
+            const int64_t largest = *std::max_element(sizes.begin(), sizes.end());
+            std::function<void(const std::string&)> onStep;
+            if (terminal)
+                onStep = [&](const std::string& step) {
+                    fmt::print(stderr, "\rbench: file to picture, synthetic-{}: {}{:30}", largest, step, "");
+                };
+            const FileToPictureResult f = fileToPicture(largest, o.seed, most, o.maxMemoryBytes, limit, onStep);
+            if (terminal) fmt::print(stderr, "\r{:100}\r", "");
+            printFileToPicture(f, limit);
+            json += fileToPictureJson(f);
+        } else {
+            json += "null";
         }
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         fmt::print("\n({:.1f} s in all, peak memory {}; agreement: share of corner-camera rays with {}'s hit/miss "
                    "verdict; x prim / x shad: rays per second over embree's in the same pass)\n",
                    seconds, humanBytes(peakResidentBytes()),
                    settings.methods.empty() ? "" : benchMethodName(settings.methods.front()));
+        if (!o.svg.empty()) {
+            std::sort(plotted.begin(), plotted.end(),
+                      [](const BenchGridResult& a, const BenchGridResult& b) { return a.width < b.width; });
+            writeTextFile(o.svg, benchRatesSvg(plotted, machine));
+        }
         // The report goes last: its presence says the run completed.
-        if (!o.json.empty()) writeTextFile(o.json, json + "\n ]}\n");
+        if (!o.json.empty()) writeTextFile(o.json, json + "}\n");
         return 0;
     });
 }

@@ -156,6 +156,8 @@ struct BenchCommandOptions {
     std::string dataDir;                  // folder of real DEMs; empty = the source tree's data-samples
     uint64_t seed = 1;                    // seed of the synthetic terrain
     double maxMemoryBytes = 0.0;          // grids and methods estimated to need more are skipped; 0 = 80% of RAM
+    std::string svg;                      // chart of camera rays/s against grid size; empty = none
+    bool fileToPicture = false;           // also time `render` from a 16-bit PNG of the largest synthetic grid
 };
 int runBench(const BenchCommandOptions& options);
 

@@ -209,6 +209,12 @@ int main(int argc, char** argv) {
                          "Thread count measured beside 1 thread, 0 = all cores (default 0)")
         ->check(CLI::Range(0, 4096));
     benchCmd->add_option("--json", bench.json, "Write the report as JSON to this file");
+    benchCmd->add_option("--svg", bench.svg,
+                         "Write an SVG chart of camera rays per second against grid size (synthetic grids, both "
+                         "cameras, the most threads) to this file");
+    benchCmd->add_flag("--file-to-picture", bench.fileToPicture,
+                       "Also time `render FILE.png --cell-size 30 --size 1024x768` with bilinear and with embree, "
+                       "from the largest synthetic grid written as a 16-bit PNG height map");
     benchCmd->add_flag("--large", bench.large, "Add a 32769 x 32769 synthetic grid (skipped when over --max-memory)");
     benchCmd->add_flag("--real", bench.real, "Add the GeoTIFF and .hgt DEMs of --data");
     benchCmd->add_option("--data", bench.dataDir, "Folder of the DEMs --real adds (default: the sample DEMs)");

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <memory>
 
@@ -193,6 +194,164 @@ BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& s) {
             if (e.shadowRaysPerSecond > 0.0) p.ratioToEmbreeShadow = p.shadowRaysPerSecond / e.shadowRaysPerSecond;
         }
     return out;
+}
+
+namespace {
+
+// Text for SVG character data and attribute values.
+std::string xmlEscaped(const std::string& text) {
+    std::string out;
+    for (char c : text) {
+        if (c == '&') out += "&amp;";
+        else if (c == '<') out += "&lt;";
+        else if (c == '>') out += "&gt;";
+        else if (c == '"') out += "&quot;";
+        else out += c;
+    }
+    return out;
+}
+
+// One colour per method, in benchMethods() order; Embree's lines are dashed, so the baseline stands out.
+const char* methodColour(BenchMethod m) {
+    switch (m) {
+    case BenchMethod::Bilinear: return "#1f77b4";
+    case BenchMethod::BilinearFlat: return "#17becf";
+    case BenchMethod::Triangles: return "#2ca02c";
+    case BenchMethod::Embree: return "#d62728";
+    case BenchMethod::EmbreeGrid: return "#ff7f0e";
+    }
+    return "#000000";
+}
+
+bool isEmbree(BenchMethod m) { return m == BenchMethod::Embree || m == BenchMethod::EmbreeGrid; }
+
+// A method's pass on `camera` at the most threads it was measured with, or none.
+const BenchPass* mostThreadsPass(const BenchMethodResult& m, BenchCamera camera) {
+    const BenchPass* best = nullptr;
+    for (const auto& p : m.passes)
+        if (p.camera == camera && (!best || p.threads > best->threads)) best = &p;
+    return best;
+}
+
+}  // namespace
+
+std::string benchRatesSvg(const std::vector<BenchGridResult>& grids, const std::string& machine) {
+    // Two plot areas side by side, sharing the y scale so that the panels compare at a glance.
+    const double W = 1000, H = 480, plotW = 400, top = 74, bottom = 390;
+    const double plotLeft[2] = {70, 570};
+    const BenchCamera cameras[2] = {BenchCamera::Corner, BenchCamera::Grazing};
+
+    // Methods in report order, as they first appear; rates and sizes for the axes.
+    std::vector<BenchMethod> methods;
+    double rateLo = std::numeric_limits<double>::infinity(), rateHi = 0.0;
+    double sizeLo = std::numeric_limits<double>::infinity(), sizeHi = 0.0;
+    int threads = 0;
+    for (const auto& g : grids) {
+        sizeLo = std::min(sizeLo, double(g.width));
+        sizeHi = std::max(sizeHi, double(g.width));
+        for (const auto& m : g.methods) {
+            if (m.skipped) continue;
+            if (std::find(methods.begin(), methods.end(), m.method) == methods.end()) methods.push_back(m.method);
+            for (BenchCamera c : cameras)
+                if (const BenchPass* p = mostThreadsPass(m, c); p && p->primaryRaysPerSecond > 0.0) {
+                    rateLo = std::min(rateLo, p->primaryRaysPerSecond * 1e-6);
+                    rateHi = std::max(rateHi, p->primaryRaysPerSecond * 1e-6);
+                    threads = std::max(threads, p->threads);
+                }
+        }
+    }
+    std::sort(methods.begin(), methods.end(), [](BenchMethod a, BenchMethod b) { return int(a) < int(b); });
+    if (!(rateHi > 0.0)) rateLo = 0.1, rateHi = 10.0;
+    if (!(sizeHi > 0.0)) sizeLo = 3.0, sizeHi = 3.0;
+    // x: log10 of the size, half an octave of room on either side; y: whole decades around the rates.
+    const double xLo = std::log10(sizeLo) - 0.15, xHi = std::log10(sizeHi) + 0.15;
+    const double dLo = std::floor(std::log10(rateLo)), dHi = std::max(dLo + 1.0, std::ceil(std::log10(rateHi)));
+    auto px = [&](int panel, double size) { return plotLeft[panel] + (std::log10(size) - xLo) / (xHi - xLo) * plotW; };
+    auto py = [&](double mrays) { return bottom - (std::log10(mrays) - dLo) / (dHi - dLo) * (bottom - top); };
+
+    std::string svg;
+    char buf[768];
+    auto add = [&](const char* format, auto... args) {
+        std::snprintf(buf, sizeof buf, format, args...);
+        svg += buf;
+    };
+    add("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" viewBox=\"0 0 %.0f %.0f\" "
+        "font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n",
+        W, H, W, H);
+    const std::string title = "Camera rays per second against grid size" +
+                              (threads > 0 ? " at " + std::to_string(threads) + (threads == 1 ? " thread" : " threads") : "");
+    add("<text x=\"%.0f\" y=\"22\" font-size=\"15\">%s</text>\n", plotLeft[0], xmlEscaped(title).c_str());
+    if (!machine.empty())
+        add("<text x=\"%.0f\" y=\"40\" fill=\"#444\">%s</text>\n", plotLeft[0], xmlEscaped(machine).c_str());
+
+    for (int panel = 0; panel < 2; ++panel) {
+        const double x0 = plotLeft[panel], x1 = x0 + plotW;
+        add("<g data-camera=\"%s\">\n<text x=\"%.0f\" y=\"%.0f\" font-size=\"13\" text-anchor=\"middle\">%s camera</text>\n",
+            benchCameraName(cameras[panel]), (x0 + x1) / 2, top - 8, benchCameraName(cameras[panel]));
+        // Grid lines and labels: 1, 2 and 5 of every decade on y, the measured sizes on x.
+        for (double d = dLo; d <= dHi; ++d)
+            for (double mant : {1.0, 2.0, 5.0}) {
+                const double v = mant * std::pow(10.0, d);
+                if (std::log10(v) > dHi + 1e-9) continue;
+                const double y = py(v);
+                add("<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\"/>\n", x0, y, x1, y,
+                    mant == 1.0 ? "#ccc" : "#eee");
+                add("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">%g</text>\n", x0 - 6, y + 4, v);
+            }
+        std::vector<int64_t> sizes;
+        for (const auto& g : grids)
+            if (std::find(sizes.begin(), sizes.end(), g.width) == sizes.end()) sizes.push_back(g.width);
+        for (int64_t size : sizes) {
+            const double x = px(panel, double(size));
+            add("<line x1=\"%.1f\" y1=\"%.0f\" x2=\"%.1f\" y2=\"%.0f\" stroke=\"#eee\"/>\n<text x=\"%.1f\" y=\"%.0f\" "
+                "text-anchor=\"middle\">%lld</text>\n",
+                x, top, x, bottom, x, bottom + 16, (long long)size);
+        }
+        add("<rect x=\"%.0f\" y=\"%.0f\" width=\"%.0f\" height=\"%.0f\" fill=\"none\" stroke=\"black\"/>\n", x0, top,
+            plotW, bottom - top);
+        add("<text x=\"%.0f\" y=\"%.0f\" text-anchor=\"middle\">grid size, vertices per side (log)</text>\n",
+            (x0 + x1) / 2, bottom + 36);
+        add("<text transform=\"translate(%.0f %.0f) rotate(-90)\" text-anchor=\"middle\">million camera rays per second "
+            "(log)</text>\n",
+            x0 - 48, (top + bottom) / 2);
+        // One line per method, then its markers on top.
+        for (BenchMethod method : methods) {
+            std::string points, markers;
+            for (const auto& g : grids)
+                for (const auto& m : g.methods) {
+                    if (m.method != method || m.skipped) continue;
+                    const BenchPass* p = mostThreadsPass(m, cameras[panel]);
+                    if (!p || !(p->primaryRaysPerSecond > 0.0)) continue;
+                    const double x = px(panel, double(g.width)), y = py(p->primaryRaysPerSecond * 1e-6);
+                    std::snprintf(buf, sizeof buf, "%s%.2f,%.2f", points.empty() ? "" : " ", x, y);
+                    points += buf;
+                    std::snprintf(buf, sizeof buf, "<circle cx=\"%.2f\" cy=\"%.2f\" r=\"3.5\" fill=\"%s\"/>\n", x, y,
+                                  methodColour(method));
+                    markers += buf;
+                }
+            if (points.empty()) continue;
+            add("<polyline data-method=\"%s\" data-camera=\"%s\" fill=\"none\" stroke=\"%s\" stroke-width=\"2\"%s "
+                "points=\"%s\"/>\n",
+                benchMethodName(method), benchCameraName(cameras[panel]), methodColour(method),
+                isEmbree(method) ? " stroke-dasharray=\"6 3\"" : "", points.c_str());
+            svg += markers;
+        }
+        svg += "</g>\n";
+    }
+
+    // The legend: one entry per method, in a row under both panels.
+    double lx = plotLeft[0];
+    const double ly = H - 24;
+    for (BenchMethod method : methods) {
+        add("<g data-legend=\"%s\"><line x1=\"%.0f\" y1=\"%.0f\" x2=\"%.0f\" y2=\"%.0f\" stroke=\"%s\" stroke-width=\"2\"%s/>"
+            "<circle cx=\"%.0f\" cy=\"%.0f\" r=\"3.5\" fill=\"%s\"/><text x=\"%.0f\" y=\"%.0f\">%s</text></g>\n",
+            benchMethodName(method), lx, ly, lx + 28, ly, methodColour(method),
+            isEmbree(method) ? " stroke-dasharray=\"6 3\"" : "", lx + 14, ly, methodColour(method), lx + 34, ly + 4,
+            benchMethodName(method));
+        lx += 44 + 8.0 * double(std::string(benchMethodName(method)).size()) + 24;
+    }
+    svg += "</svg>\n";
+    return svg;
 }
 
 }  // namespace terracast

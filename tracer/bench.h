@@ -114,4 +114,12 @@ struct BenchGridResult {
 // Builds and times every method of `settings` on `grid`, each pass under FlushDenormalsScope.
 BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& settings);
 
+// An SVG chart of camera (primary) rays per second against grid size: one panel per camera (corner on the
+// left, grazing on the right), grid size in vertices per side on a log x axis, millions of rays per second on
+// a log y axis, one line with markers per method (its pass at the most threads measured on each grid) and a
+// legend. Meant for square synthetic grids, given in increasing size; methods skipped on a grid leave a gap in
+// their line. Each line is a <polyline> carrying data-method and data-camera attributes, one point per grid
+// the method was measured on. `machine` (the processor, its threads) goes into the title as given.
+std::string benchRatesSvg(const std::vector<BenchGridResult>& grids, const std::string& machine);
+
 }  // namespace terracast

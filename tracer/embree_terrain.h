@@ -26,7 +26,7 @@ enum class EmbreeLayout {
 // Triangles use the diagonal (i+1, j)-(i, j+1), as CellMethod::Triangles does; nodata cells are left out.
 class EmbreeTerrain {
 public:
-    // Builds the scene (RTC_SCENE_FLAG_ROBUST, high build quality) on a device with `threads` build threads
+    // Builds the scene (RTC_SCENE_FLAG_ROBUST, medium build quality) on a device with `threads` build threads
     // (0 = all cores). Throws std::runtime_error on failure.
     EmbreeTerrain(const HeightGrid& grid, EmbreeLayout layout, int threads = 0);
     ~EmbreeTerrain();

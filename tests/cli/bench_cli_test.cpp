@@ -1,15 +1,22 @@
 // `terracast bench` through the real executable: a tiny synthetic grid gives a complete report (every method,
 // both cameras, finite positive rates, ratios to Embree's own pass), grids over --max-memory are reported as
-// skipped without being made, and bad options are refused with one line and exit 2.
+// skipped without being made, bad options are refused with one line and exit 2, --svg draws the rates that
+// the report gives, and --file-to-picture times `render` from a PNG height map with both tracers.
 #include "support/json.h"
 #include "support/run_command.h"
 #include "support/temp_dir.h"
 
 #include <catch2/catch.hpp>
 
+#include <stdlib.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <map>
+#include <regex>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -19,6 +26,52 @@ using namespace terracast::testing;
 namespace {
 
 bool finitePositive(const JsonValue& v) { return v.isNumber() && std::isfinite(v.number) && v.number > 0.0; }
+
+// Points TMPDIR at another folder while alive (the commands run under it inherit it), then restores it.
+class TmpDirOverride {
+public:
+    explicit TmpDirOverride(const std::string& dir) {
+        if (const char* old = std::getenv("TMPDIR")) old_ = old, had_ = true;
+        ::setenv("TMPDIR", dir.c_str(), 1);
+    }
+    ~TmpDirOverride() {
+        if (had_) ::setenv("TMPDIR", old_.c_str(), 1);
+        else ::unsetenv("TMPDIR");
+    }
+    TmpDirOverride(const TmpDirOverride&) = delete;
+    TmpDirOverride& operator=(const TmpDirOverride&) = delete;
+
+private:
+    std::string old_;
+    bool had_ = false;
+};
+
+// One line of the bench chart: the method and camera it draws and its points (x, y) in SVG units.
+struct SvgLine {
+    std::string method, camera;
+    std::vector<std::pair<double, double>> points;
+};
+
+std::vector<SvgLine> svgPolylines(const std::string& svg) {
+    std::vector<SvgLine> lines;
+    const std::regex element("<polyline ([^>]*)/>");
+    const std::regex attribute("([a-z-]+)=\"([^\"]*)\"");
+    for (auto e = std::sregex_iterator(svg.begin(), svg.end(), element); e != std::sregex_iterator(); ++e) {
+        const std::string attrs = (*e)[1];
+        std::map<std::string, std::string> a;
+        for (auto t = std::sregex_iterator(attrs.begin(), attrs.end(), attribute); t != std::sregex_iterator(); ++t)
+            a[(*t)[1]] = (*t)[2];
+        SvgLine line{a["data-method"], a["data-camera"], {}};
+        std::stringstream in(a["points"]);
+        std::string xy;
+        while (in >> xy) {
+            const auto comma = xy.find(',');
+            line.points.emplace_back(std::stod(xy.substr(0, comma)), std::stod(xy.substr(comma + 1)));
+        }
+        lines.push_back(line);
+    }
+    return lines;
+}
 
 }  // namespace
 
@@ -35,6 +88,8 @@ TEST_CASE("CLI: bench on a 65 x 65 grid reports every method on both cameras", "
     CHECK(doc["image_width"].number == 1024);
     CHECK(doc["image_height"].number == 768);
     CHECK(doc["sun_elevation_deg"].number == 20);
+    CHECK(doc["cpu"].type == JsonValue::Type::String);
+    CHECK(doc["file_to_picture"].type == JsonValue::Type::Null);  // only with --file-to-picture
     REQUIRE(doc["threads"].array.size() == 1);
     CHECK(doc["threads"][0].number == 1);
     REQUIRE(doc["grids"].array.size() == 1);
@@ -133,6 +188,7 @@ TEST_CASE("CLI: bench refuses bad options with one line and exit 2", "[cli][benc
         {"--max-memory lots" + out, "--max-memory"},
         {"--real --data /no/such/folder" + out, "/no/such/folder"},
         {"--sizes 65 --json /no/such/folder/r.json", "/no/such/folder"},
+        {"--sizes 65 --svg /no/such/folder/r.svg" + out, "/no/such/folder"},
     };
     for (const auto& [args, named] : cases) {
         INFO(args);
@@ -144,4 +200,118 @@ TEST_CASE("CLI: bench refuses bad options with one line and exit 2", "[cli][benc
         CHECK(r.out.empty());
     }
     CHECK_FALSE(std::filesystem::exists(json));
+}
+
+TEST_CASE("CLI: bench --svg draws each method's rates on both cameras, ordered as the report", "[cli][bench]") {
+    TempDir dir("bench-cli");
+    const std::string json = (dir.path() / "bench.json").string();
+    const std::string svgPath = (dir.path() / "rates.svg").string();
+    const auto r = runTerracast("bench --sizes 9,17 --threads 1 --json '" + json + "' --svg '" + svgPath + "'");
+    INFO(r.err);
+    REQUIRE(r.exitCode == 0);
+    const std::string svg = slurp(svgPath);
+    REQUIRE(svg.rfind("<svg", 0) == 0);
+    const auto end = svg.find_last_not_of(" \n");
+    REQUIRE(end != std::string::npos);
+    CHECK(svg.substr(0, end + 1).size() >= 6);
+    CHECK(svg.compare(end + 1 - 6, 6, "</svg>") == 0);
+    CHECK(svg.find("</svg>") == end + 1 - 6);  // one document
+    // Every element opened is closed: as many <g ...> as </g>.
+    size_t open = 0, close = 0;
+    for (size_t k = svg.find("<g "); k != std::string::npos; k = svg.find("<g ", k + 1)) ++open;
+    for (size_t k = svg.find("</g>"); k != std::string::npos; k = svg.find("</g>", k + 1)) ++close;
+    CHECK(open == close);
+    CHECK(svg.find("grid size") != std::string::npos);
+    CHECK(svg.find("hardware thread") != std::string::npos);
+
+    const JsonValue doc = parseJson(slurp(json));
+    const auto& grids = doc["grids"].array;
+    REQUIRE(grids.size() == 2);
+    const std::vector<SvgLine> lines = svgPolylines(svg);
+    for (const char* camera : {"corner", "grazing"}) {
+        INFO("camera " << camera);
+        // The headline of each method and grid: its pass on this camera at the most threads (1 here).
+        std::map<std::string, std::vector<double>> rates;
+        for (const JsonValue& g : grids)
+            for (const JsonValue& m : g["methods"].array)
+                for (const JsonValue& p : m["passes"].array)
+                    if (p["camera"].string == camera) rates[m["name"].string].push_back(p["primary_rays_per_s"].number);
+        REQUIRE(rates.size() == 5);
+        std::map<std::string, const SvgLine*> byMethod;
+        for (const auto& line : lines)
+            if (line.camera == camera) {
+                CHECK(byMethod.count(line.method) == 0);  // one line per method
+                byMethod[line.method] = &line;
+            }
+        REQUIRE(byMethod.size() == rates.size());
+        for (const auto& [method, values] : rates) {
+            INFO("method " << method);
+            REQUIRE(byMethod.count(method) == 1);
+            REQUIRE(byMethod[method]->points.size() == grids.size());
+            // Sizes grow to the right.
+            CHECK(byMethod[method]->points[0].first < byMethod[method]->points[1].first);
+        }
+        // On each grid, a higher rate is drawn higher up (a smaller y).
+        for (size_t g = 0; g < grids.size(); ++g)
+            for (const auto& [a, ra] : rates)
+                for (const auto& [b, rb] : rates) {
+                    INFO(a << " against " << b << " on grid " << g);
+                    const double ya = byMethod[a]->points[g].second, yb = byMethod[b]->points[g].second;
+                    if (ra[g] > 1.01 * rb[g]) CHECK(ya < yb);
+                    if (ra[g] > rb[g]) CHECK(ya <= yb);
+                }
+    }
+}
+
+TEST_CASE("CLI: bench --file-to-picture renders a PNG height map with bilinear and with embree", "[cli][bench]") {
+    TempDir dir("bench-cli");
+    const std::filesystem::path scratch = dir.path() / "tmp";
+    std::filesystem::create_directories(scratch);
+    const std::string json = (dir.path() / "bench.json").string();
+    CommandResult r;
+    {
+        const TmpDirOverride tmp(scratch.string());
+        r = runTerracast("bench --sizes 129 --threads 2 --file-to-picture --json '" + json + "'");
+    }
+    INFO(r.err);
+    REQUIRE(r.exitCode == 0);
+    CHECK(r.out.find("file to picture") != std::string::npos);
+    CHECK(r.out.find("total embree / bilinear") != std::string::npos);
+    // The height map and the pictures went into a folder of their own, removed afterwards.
+    CHECK(std::filesystem::is_empty(scratch));
+
+    const JsonValue doc = parseJson(slurp(json));
+    const JsonValue& f = doc["file_to_picture"];
+    CHECK(f["dem"].string == "synthetic-129");
+    CHECK(f["width"].number == 129);
+    CHECK(f["cell_size_m"].number == 30);
+    CHECK_FALSE(f["skipped"].boolean);
+    CHECK(f["threads"].number == 2);
+    CHECK(f["image_width"].number == 1024);
+    CHECK(f["image_height"].number == 768);
+    CHECK(finitePositive(f["height_map_bytes"]));
+    CHECK(finitePositive(f["height_map_write_s"]));
+    REQUIRE(f["methods"].array.size() == 2);
+    CHECK(f["methods"][0]["name"].string == "bilinear");
+    CHECK(f["methods"][1]["name"].string == "embree");
+    for (const JsonValue& m : f["methods"].array) {
+        INFO("method " << m["name"].string);
+        CHECK_FALSE(m["skipped"].boolean);
+        for (const char* key : {"load_s", "build_s", "render_s", "write_s", "total_s", "picture_bytes"}) {
+            INFO(key);
+            CHECK(finitePositive(m[key]));
+        }
+        // The phases add up to the whole (the report keeps six significant digits of each).
+        const double phases = m["load_s"].number + m["build_s"].number + m["render_s"].number + m["write_s"].number;
+        CHECK(m["total_s"].number == Approx(phases).epsilon(1e-4));
+        // Each picture read back at the size asked for.
+        CHECK(m["picture_width"].number == 1024);
+        CHECK(m["picture_height"].number == 768);
+    }
+    CHECK(f["total_ratio_embree_to_bilinear"].number ==
+          Approx(f["methods"][1]["total_s"].number / f["methods"][0]["total_s"].number).epsilon(1e-4));
+    // The exact patch and Embree's two triangles per cell draw nearly the same picture.
+    REQUIRE(f["picture_mean_abs_diff"].isNumber());
+    CHECK(f["picture_mean_abs_diff"].number >= 0.0);
+    CHECK(f["picture_mean_abs_diff"].number < 3.0);
 }
