@@ -168,7 +168,7 @@ std::vector<float> HeightGrid::copyHeights() const {
 
 void HeightGrid::buildPyramid() {
     const auto start = std::chrono::steady_clock::now();
-    pyramid_.clear();
+    std::vector<std::vector<int16_t>> built;  // levels 1..n
 
     // The codes' decoding. Int16 heights lend the pyramid their own offset and scale, so a block's code is its
     // highest vertex code and decodes to exactly that height. Float32 heights get a scale that spreads the
@@ -231,11 +231,11 @@ void HeightGrid::buildPyramid() {
         levelOne([h](int64_t k) { return h[k]; }, kNone,
                  [&](float z) { return z == kNone ? int16_t(kLowestCode) : encodeUp(z); });
     }
-    pyramid_.push_back(std::move(level));
+    built.push_back(std::move(level));
 
     // Each further level from the one below; codes order as heights do, so the maximum code is the bound.
     while (bx > 1 || by > 1) {
-        const std::vector<int16_t>& prev = pyramid_.back();
+        const std::vector<int16_t>& prev = built.back();
         const int64_t px = bx, py = by;
         bx = (bx + 1) / 2;
         by = (by + 1) / 2;
@@ -250,7 +250,22 @@ void HeightGrid::buildPyramid() {
                     next[size_t(bj * bx + bi)] = m;
                 }
         });
-        pyramid_.push_back(std::move(next));
+        built.push_back(std::move(next));
+    }
+    // One array for all levels, so the traversal finds a level's blocks from two small tables.
+    int64_t total = 0;
+    for (const auto& lv : built) total += int64_t(lv.size());
+    pyramidCodes_.clear();
+    pyramidCodes_.reserve(size_t(total));
+    levelStart_.clear();
+    levelBlocksX_.clear();
+    levelStart_.reserve(built.size());
+    levelBlocksX_.reserve(built.size());
+    for (size_t k = 0; k < built.size(); ++k) {
+        levelStart_.push_back(int64_t(pyramidCodes_.size()));
+        levelBlocksX_.push_back(pyramidBlocksX(int(k + 1)));
+        pyramidCodes_.insert(pyramidCodes_.end(), built[k].begin(), built[k].end());
+        std::vector<int16_t>().swap(built[k]);
     }
     pyramidBuildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -274,8 +289,8 @@ void HeightGrid::scaleHeights(float k) {
 }
 
 size_t HeightGrid::memoryBytes() const {
-    size_t pyramid = 0;
-    for (const auto& level : pyramid_) pyramid += level.capacity() * sizeof(int16_t);
+    const size_t pyramid = pyramidCodes_.capacity() * sizeof(int16_t) +
+                           (levelStart_.capacity() + levelBlocksX_.capacity()) * sizeof(int64_t);
     return heightsM_.capacity() * sizeof(float) + codes_.capacity() * sizeof(int16_t) +
            (valid_.capacity() + cellValid_.capacity()) * sizeof(uint64_t) + pyramid;
 }

@@ -90,16 +90,29 @@ public:
     // valid vertex of its cells. Level 0 is not stored: it is the cells. Each level is stored as int16 codes,
     // rounded up so that the decoded value never lies below a height it covers; for Int16 height storage the
     // codes are the heights' own, so the bound is exact. A block without a valid vertex gets the lowest code.
-    int pyramidLevels() const { return int(pyramid_.size()); }
+    int pyramidLevels() const { return int(levelStart_.size()); }
     // Seconds the last pyramid build took.
     double pyramidBuildSeconds() const { return pyramidBuildSeconds_; }
     // Blocks along x and y at level k.
     int64_t pyramidBlocksX(int k) const { return (cellsX() + (int64_t(1) << k) - 1) >> k; }
     int64_t pyramidBlocksY(int k) const { return (cellsY() + (int64_t(1) << k) - 1) >> k; }
     // An upper bound on the valid heights in block (bi, bj) of level k (1 <= k <= pyramidLevels()).
-    double blockMaxM(int k, int64_t bi, int64_t bj) const {
-        const int16_t q = pyramid_[size_t(k - 1)][size_t(bj * pyramidBlocksX(k) + bi)];
-        return double(float(double(int32_t(q) + pyramidOffset_) * pyramidScale_));
+    double blockMaxM(int k, int64_t bi, int64_t bj) const { return pyramidView().blockMaxM(k, bi, bj); }
+
+    // The pyramid's arrays, for hot loops.
+    struct PyramidView {
+        const int16_t* codes;     // all levels, level 1 first
+        const int64_t* start;     // start[k - 1]: index of level k's first block
+        const int64_t* blocksX;   // blocksX[k - 1]: blocks per row of level k
+        int32_t offset;
+        double scale;
+        double blockMaxM(int k, int64_t bi, int64_t bj) const {
+            const int16_t q = codes[start[k - 1] + bj * blocksX[k - 1] + bi];
+            return double(float(double(int32_t(q) + offset) * scale));
+        }
+    };
+    PyramidView pyramidView() const {
+        return {pyramidCodes_.data(), levelStart_.data(), levelBlocksX_.data(), pyramidOffset_, pyramidScale_};
     }
 
 private:
@@ -129,7 +142,9 @@ private:
     int64_t validCells_ = 0;
     float minHeightM_ = 0.0f;
     float maxHeightM_ = 0.0f;
-    std::vector<std::vector<int16_t>> pyramid_;  // levels 1..n, row-major blocks of codes
+    std::vector<int16_t> pyramidCodes_;          // levels 1..n, each row-major, one after the other
+    std::vector<int64_t> levelStart_;            // per level: index of its first block in pyramidCodes_
+    std::vector<int64_t> levelBlocksX_;          // per level: blocks per row
     int32_t pyramidOffset_ = 0;
     double pyramidScale_ = 1.0;
     double pyramidBuildSeconds_ = 0.0;

@@ -30,26 +30,47 @@ enum class Shape { Bilinear, Triangles, Nearest };
 template <class Real>
 using Wide = std::conditional_t<(sizeof(Real) > sizeof(double)), Real, double>;
 
+// Height access in the hot loop, one kind per storage, each returning exactly HeightGrid::at's value.
+struct Float32Heights {
+    const float* h;
+    int64_t width;
+    float operator()(int64_t i, int64_t j) const { return h[j * width + i]; }
+};
+struct Int16Heights {
+    const int16_t* q;
+    int64_t width;
+    int32_t offset;
+    double scale;
+    float operator()(int64_t i, int64_t j) const { return float(double(int32_t(q[j * width + i]) + offset) * scale); }
+};
+// One metre per code: the decoded height is the integer itself (exact in float below 2^24 m).
+struct Int16UnitHeights {
+    const int16_t* q;
+    int64_t width;
+    int32_t offset;
+    float operator()(int64_t i, int64_t j) const { return float(int32_t(q[j * width + i]) + offset); }
+};
+
 // The corners of cell (i, j) relative to `baseM`. Cell math runs on heights relative to the cell's own
 // h00, so float rounding scales with the cell's relief, not with its altitude (8000 m peaks keep
 // millimetres). The differences are taken in Wide arithmetic, where they are exact, then rounded once.
-template <class Real>
-CellCorners<Real> corners(const HeightGrid& g, int64_t i, int64_t j, Wide<Real> baseM) {
+template <class Real, class Heights>
+CellCorners<Real> corners(const Heights& at, int64_t i, int64_t j, Wide<Real> baseM) {
     using W = Wide<Real>;
-    return {Real(W(g.at(i, j)) - baseM), Real(W(g.at(i + 1, j)) - baseM), Real(W(g.at(i, j + 1)) - baseM),
-            Real(W(g.at(i + 1, j + 1)) - baseM)};
+    return {Real(W(at(i, j)) - baseM), Real(W(at(i + 1, j)) - baseM), Real(W(at(i, j + 1)) - baseM),
+            Real(W(at(i + 1, j + 1)) - baseM)};
 }
 
 // Surface height minus ray height at a point on the boundary `side` of cell (i, j), or inside the cell,
 // evaluated in Wide arithmetic and rounded once to Real. On an edge only that edge's two vertices are used,
 // in a fixed order and independently of the cell's base height, so both cells sharing the edge compute the
 // same bits (see cell_intersectors.h on watertightness).
-template <class Real, Shape shape>
-Real surfaceAboveRay(const HeightGrid& g, int64_t i, int64_t j, CellSide side, const glm::dvec3& pGrid) {
+template <class Real, Shape shape, class Heights>
+Real surfaceAboveRay(const Heights& at, int64_t i, int64_t j, CellSide side, const glm::dvec3& pGrid) {
     using W = Wide<Real>;
     auto lerp = [](W a, W b, W w) { return (W(1) - w) * a + w * b; };
     auto frac = [](double x) { return std::clamp(W(x), W(0), W(1)); };
-    auto h = [&](int64_t x, int64_t y) { return W(g.at(x, y)); };
+    auto h = [&](int64_t x, int64_t y) { return W(at(x, y)); };
     const W z = W(pGrid.z);
     switch (side) {
     case CellSide::XLow:
@@ -97,8 +118,8 @@ Real unitRoundoff() {
     return std::numeric_limits<Real>::epsilon();
 }
 
-template <class Real, Shape shape>
-std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interval interval, bool anyHit,
+template <class Real, Shape shape, class Heights>
+std::optional<HeightFieldHit> trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval interval, bool anyHit,
                                     TraceCounters* counters, Traversal traversal) {
     // One result object, returned from every exit, so it is built in place (named return value).
     std::optional<HeightFieldHit> result;
@@ -152,7 +173,7 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
             return Visit::Passed;
         }
         const double zEnter = og.z + tEnter * dg.z, zExit = og.z + tExit * dg.z;
-        const double h00 = g.at(ci, cj), h10 = g.at(ci + 1, cj), h01 = g.at(ci, cj + 1), h11 = g.at(ci + 1, cj + 1);
+        const double h00 = at(ci, cj), h10 = at(ci + 1, cj), h01 = at(ci, cj + 1), h11 = at(ci + 1, cj + 1);
         const double zMin = std::min(zEnter, zExit), zMax = std::max(zEnter, zExit);
         if (zMin > std::max(std::max(h00, h10), std::max(h01, h11)) + margin) {
             cornerG.reset();
@@ -166,7 +187,7 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
             hasCarriedG = false;
             return Visit::Tested;
         }
-        const auto h = corners<Real>(g, ci, cj, Wide<Real>(h00));
+        const auto h = corners<Real>(at, ci, cj, Wide<Real>(h00));
         if (counters) ++counters->cellsTested;
 
         const glm::dvec3 pEnter{og.x + tEnter * dg.x, og.y + tEnter * dg.y, zEnter};
@@ -179,8 +200,8 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
         seg.dv = Real(dg.y);
         seg.dz = Real(dg.z);
         seg.length = Real(tExit - tEnter);
-        seg.gEntry = hasCarriedG ? carriedG : surfaceAboveRay<Real, shape>(g, ci, cj, entry, pEnter);
-        seg.gExit = surfaceAboveRay<Real, shape>(g, ci, cj, exit, pExit);
+        seg.gEntry = hasCarriedG ? carriedG : surfaceAboveRay<Real, shape>(at, ci, cj, entry, pEnter);
+        seg.gExit = surfaceAboveRay<Real, shape>(at, ci, cj, exit, pExit);
         carriedG = seg.gExit;
         hasCarriedG = true;
 
@@ -253,6 +274,7 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
     // see the same tEnter, tExit and sides, and skipping changes no hit: every cell of a skipped block would
     // have been passed over.
     const int levels = traversal == Traversal::Pyramid ? g.pyramidLevels() : 0;
+    const HeightGrid::PyramidView pyramid = g.pyramidView();
     const bool posX = dg.x > 0.0, posY = dg.y > 0.0;
     const double ox = og.x, oy = og.y, oz = og.z, dz = dg.z;
     // The parameter of the boundary x = const is (x - ox) / dx, taken as a product with the reciprocal; a ray
@@ -310,7 +332,7 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
             const bool leavesX = txb <= tyb;
             const double tb = leavesX ? txb : tyb;
             const double tOut = std::max(t, std::min(tb, t1));
-            const double top = double(g.blockMaxM(level, bi, bj)) + margin;
+            const double top = pyramid.blockMaxM(level, bi, bj) + margin;
             const double zNow = oz + t * dz;
             if (!(tOut > t) || !(std::min(zNow, oz + tOut * dz) > top)) {
                 --level;
@@ -365,14 +387,28 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Ray& ray, Interva
     return result;
 }
 
+template <class Real, Shape shape>
+std::optional<HeightFieldHit> traceStorage(const HeightGrid& g, const Ray& ray, Interval interval, bool anyHit,
+                                           TraceCounters* counters, Traversal tr) {
+    if (const float* h = g.float32Heights())
+        return trace<Real, shape>(g, Float32Heights{h, g.width()}, ray, interval, anyHit, counters, tr);
+    if (g.codeScale() == 1.0)
+        return trace<Real, shape>(g, Int16UnitHeights{g.int16Codes(), g.width(), g.codeOffset()}, ray, interval,
+                                  anyHit, counters, tr);
+    return trace<Real, shape>(g, Int16Heights{g.int16Codes(), g.width(), g.codeOffset(), g.codeScale()}, ray,
+                              interval, anyHit, counters, tr);
+}
+
 std::optional<HeightFieldHit> dispatch(const HeightGrid& g, const Ray& ray, Interval interval, CellMethod method,
                                        bool anyHit, TraceCounters* counters, Traversal tr) {
     switch (method) {
-    case CellMethod::Bilinear: return trace<float, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr);
-    case CellMethod::BilinearDouble: return trace<double, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr);
-    case CellMethod::Triangles: return trace<float, Shape::Triangles>(g, ray, interval, anyHit, counters, tr);
-    case CellMethod::Nearest: return trace<float, Shape::Nearest>(g, ray, interval, anyHit, counters, tr);
-    case CellMethod::Reference: return trace<long double, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr);
+    case CellMethod::Bilinear: return traceStorage<float, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr);
+    case CellMethod::BilinearDouble:
+        return traceStorage<double, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr);
+    case CellMethod::Triangles: return traceStorage<float, Shape::Triangles>(g, ray, interval, anyHit, counters, tr);
+    case CellMethod::Nearest: return traceStorage<float, Shape::Nearest>(g, ray, interval, anyHit, counters, tr);
+    case CellMethod::Reference:
+        return traceStorage<long double, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr);
     }
     return std::nullopt;
 }
