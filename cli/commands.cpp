@@ -891,6 +891,28 @@ std::vector<int64_t> parseBenchSizes(const std::string& text) {
     return sizes;
 }
 
+// Parses "bilinear,triangles" into bench methods, in report order; embree is always measured (the ratios'
+// reference).
+std::vector<BenchMethod> parseBenchMethods(const std::string& text) {
+    std::vector<bool> wanted(benchMethods().size(), false);
+    std::stringstream in(text);
+    std::string item;
+    while (std::getline(in, item, ',')) {
+        const auto m = parseBenchMethod(item);
+        if (!m)
+            throw InputError(fmt::format("--methods: expected a comma-separated list of bilinear, bilinear-flat, "
+                                         "triangles, embree, embree-grid, found '{}'",
+                                         item));
+        wanted[size_t(std::find(benchMethods().begin(), benchMethods().end(), *m) - benchMethods().begin())] = true;
+    }
+    if (text.empty() || text.back() == ',')
+        throw InputError(fmt::format("--methods: expected a comma-separated list of methods, found '{}'", text));
+    std::vector<BenchMethod> methods;
+    for (size_t k = 0; k < wanted.size(); ++k)
+        if (wanted[k] || benchMethods()[k] == BenchMethod::Embree) methods.push_back(benchMethods()[k]);
+    return methods;
+}
+
 // The DEMs `bench --real` adds: the GDAL rasters of a folder (GeoTIFF, SRTM .hgt), by name. PNG height maps
 // are left out: they carry no cell size or height scale.
 std::vector<std::string> benchRealDems(const std::string& dir) {
@@ -1189,6 +1211,7 @@ int runBench(const BenchCommandOptions& o) {
         const int hardware = std::max(1, int(std::thread::hardware_concurrency()));
         const int most = o.threads > 0 ? o.threads : hardware;
         BenchSettings settings;
+        if (!o.methods.empty()) settings.methods = parseBenchMethods(o.methods);
         settings.threadCounts = most > 1 ? std::vector<int>{1, most} : std::vector<int>{1};
         const double limit = o.maxMemoryBytes > 0.0 ? o.maxMemoryBytes : defaultMemoryLimitBytes();
         // Per pixel while a pass runs: its hits, directions, shadow verdicts, picture and hit distances, plus

@@ -158,6 +158,7 @@ struct BenchCommandOptions {
     double maxMemoryBytes = 0.0;          // grids and methods estimated to need more are skipped; 0 = 80% of RAM
     std::string svg;                      // chart of camera rays/s against grid size; empty = none
     bool fileToPicture = false;           // also time `render` from a 16-bit PNG of the largest synthetic grid
+    std::string methods;                  // comma-separated bench methods to measure; empty = all (embree always)
 };
 int runBench(const BenchCommandOptions& options);
 

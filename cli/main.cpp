@@ -209,6 +209,9 @@ int main(int argc, char** argv) {
                          "Thread count measured beside 1 thread, 0 = all cores (default 0)")
         ->check(CLI::Range(0, 4096));
     benchCmd->add_option("--json", bench.json, "Write the report as JSON to this file");
+    benchCmd->add_option("--methods", bench.methods,
+                         "Methods to measure, comma-separated: bilinear, bilinear-flat, triangles, embree, embree-grid "
+                         "(default all; embree is always measured, as the reference of the ratios)");
     benchCmd->add_option("--svg", bench.svg,
                          "Write an SVG chart of camera rays per second against grid size (synthetic grids, both "
                          "cameras, the most threads) to this file");

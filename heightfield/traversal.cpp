@@ -321,7 +321,11 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Heights& at, cons
     int64_t j = firstIndex(og.y, dg.y, t0, cellsY);
     CellSide entry = CellSide::Interior;
     double t = t0;
-    int level = 0;
+    // A ray from outside the grid's box (a camera's) starts a few levels up, where the first blocks it crosses
+    // usually lie below it; one from inside (leaving a surface point) starts at the cells and climbs.
+    const bool fromOutside = og.z > zHi + zPad || og.x < 0.0 || og.y < 0.0 || og.x > double(cellsX) ||
+                             og.y > double(cellsY);
+    int level = fromOutside ? std::min(3, levels) : 0;
     for (;;) {
         if (level > 0) {
             const int64_t bi = i >> level, bj = j >> level;
