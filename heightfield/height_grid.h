@@ -106,9 +106,9 @@ public:
         const int64_t* blocksX;   // blocksX[k - 1]: blocks per row of level k
         int32_t offset;
         double scale;
+        int16_t code(int k, int64_t bi, int64_t bj) const { return codes[start[k - 1] + bj * blocksX[k - 1] + bi]; }
         double blockMaxM(int k, int64_t bi, int64_t bj) const {
-            const int16_t q = codes[start[k - 1] + bj * blocksX[k - 1] + bi];
-            return double(float(double(int32_t(q) + offset) * scale));
+            return double(float(double(int32_t(code(k, bi, bj)) + offset) * scale));
         }
     };
     PyramidView pyramidView() const {

@@ -118,11 +118,12 @@ Real unitRoundoff() {
     return std::numeric_limits<Real>::epsilon();
 }
 
+// True when the ray meets the surface in `interval`; the nearest such hit is written to `out` when given
+// (occlusion queries pass none and skip building it).
 template <class Real, Shape shape, class Heights>
-std::optional<HeightFieldHit> trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval interval, bool anyHit,
-                                    TraceCounters* counters, Traversal traversal) {
-    // One result object, returned from every exit, so it is built in place (named return value).
-    std::optional<HeightFieldHit> result;
+bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval interval, bool anyHit,
+           TraceCounters* counters, Traversal traversal, HeightFieldHit* out) {
+    bool result = false;
     if (interval.empty()) return result;
     const glm::dvec3 og{ray.origin.x / g.cellSizeXM(), ray.origin.y / g.cellSizeYM(), ray.origin.z};
     const glm::dvec3 dg{ray.dir.x / g.cellSizeXM(), ray.dir.y / g.cellSizeYM(), ray.dir.z};
@@ -219,8 +220,10 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Heights& at, cons
 
         const double t = tEnter + double(*s);
         if (!interval.contains(t)) return Visit::Tested;
+        result = true;
+        if (!out) return Visit::Hit;
 
-        HeightFieldHit hit;
+        HeightFieldHit& hit = *out;
         hit.t = t;
         hit.cellX = ci;
         hit.cellY = cj;
@@ -260,7 +263,6 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Heights& at, cons
         const double magnitude = std::abs(hit.pointM.x) + std::abs(hit.pointM.y) + std::abs(hit.pointM.z);
         hit.errorM = 16.0 * double(eps) * (std::abs(hit.pointM.z) + heightScale + g.cellSizeXM() + g.cellSizeYM()) +
                      16.0 * std::numeric_limits<double>::epsilon() * magnitude;
-        result = hit;
         return Visit::Hit;
     };
 
@@ -275,6 +277,19 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Heights& at, cons
     // have been passed over.
     const int levels = traversal == Traversal::Pyramid ? g.pyramidLevels() : 0;
     const HeightGrid::PyramidView pyramid = g.pyramidView();
+    const double codesPerMetre = 1.0 / pyramid.scale;
+    // The highest pyramid code a block may have for a ray whose lowest height over it is zLow to pass above it by
+    // the margin. Conservative: the threshold is lowered by one code step and by 2^-22 of |zLow|, which covers
+    // the float rounding of the decoded height and of this arithmetic, so a block passing in code space passes
+    // the height test, and the load is followed by one integer comparison instead of a decoding.
+    auto highestCodeBelow = [&](double zLow) {
+        const double v = std::clamp((zLow - margin - pyramid.scale - std::abs(zLow) * 0x1p-22) * codesPerMetre -
+                                        double(pyramid.offset),
+                                    -65536.0, 65536.0);
+        auto q = static_cast<int64_t>(v);
+        if (v < double(q)) --q;
+        return q;
+    };
     const bool posX = dg.x > 0.0, posY = dg.y > 0.0;
     const double ox = og.x, oy = og.y, oz = og.z, dz = dg.z;
     // The parameter of the boundary x = const is (x - ox) / dx, taken as a product with the reciprocal; a ray
@@ -336,9 +351,8 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Heights& at, cons
             const bool leavesX = txb <= tyb;
             const double tb = leavesX ? txb : tyb;
             const double tOut = std::max(t, std::min(tb, t1));
-            const double top = pyramid.blockMaxM(level, bi, bj) + margin;
-            const double zNow = oz + t * dz;
-            if (!(tOut > t) || !(std::min(zNow, oz + tOut * dz) > top)) {
+            const int64_t limit = highestCodeBelow(std::min(oz + t * dz, oz + tOut * dz));
+            if (!(tOut > t) || int64_t(pyramid.code(level, bi, bj)) > limit) {
                 --level;
                 continue;
             }
@@ -392,29 +406,30 @@ std::optional<HeightFieldHit> trace(const HeightGrid& g, const Heights& at, cons
 }
 
 template <class Real, Shape shape>
-std::optional<HeightFieldHit> traceStorage(const HeightGrid& g, const Ray& ray, Interval interval, bool anyHit,
-                                           TraceCounters* counters, Traversal tr) {
+bool traceStorage(const HeightGrid& g, const Ray& ray, Interval interval, bool anyHit, TraceCounters* counters,
+                  Traversal tr, HeightFieldHit* out) {
     if (const float* h = g.float32Heights())
-        return trace<Real, shape>(g, Float32Heights{h, g.width()}, ray, interval, anyHit, counters, tr);
+        return trace<Real, shape>(g, Float32Heights{h, g.width()}, ray, interval, anyHit, counters, tr, out);
     if (g.codeScale() == 1.0)
         return trace<Real, shape>(g, Int16UnitHeights{g.int16Codes(), g.width(), g.codeOffset()}, ray, interval,
-                                  anyHit, counters, tr);
+                                  anyHit, counters, tr, out);
     return trace<Real, shape>(g, Int16Heights{g.int16Codes(), g.width(), g.codeOffset(), g.codeScale()}, ray,
-                              interval, anyHit, counters, tr);
+                              interval, anyHit, counters, tr, out);
 }
 
-std::optional<HeightFieldHit> dispatch(const HeightGrid& g, const Ray& ray, Interval interval, CellMethod method,
-                                       bool anyHit, TraceCounters* counters, Traversal tr) {
+bool dispatch(const HeightGrid& g, const Ray& ray, Interval interval, CellMethod method, bool anyHit,
+              TraceCounters* counters, Traversal tr, HeightFieldHit* out) {
     switch (method) {
-    case CellMethod::Bilinear: return traceStorage<float, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr);
+    case CellMethod::Bilinear: return traceStorage<float, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr, out);
     case CellMethod::BilinearDouble:
-        return traceStorage<double, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr);
-    case CellMethod::Triangles: return traceStorage<float, Shape::Triangles>(g, ray, interval, anyHit, counters, tr);
-    case CellMethod::Nearest: return traceStorage<float, Shape::Nearest>(g, ray, interval, anyHit, counters, tr);
+        return traceStorage<double, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr, out);
+    case CellMethod::Triangles:
+        return traceStorage<float, Shape::Triangles>(g, ray, interval, anyHit, counters, tr, out);
+    case CellMethod::Nearest: return traceStorage<float, Shape::Nearest>(g, ray, interval, anyHit, counters, tr, out);
     case CellMethod::Reference:
-        return traceStorage<long double, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr);
+        return traceStorage<long double, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr, out);
     }
-    return std::nullopt;
+    return false;
 }
 
 }  // namespace
@@ -439,12 +454,14 @@ const std::vector<CellMethod>& allCellMethods() {
 
 std::optional<HeightFieldHit> intersect(const HeightGrid& grid, const Ray& ray, Interval interval, CellMethod method,
                                         TraceCounters* counters, Traversal traversal) {
-    return dispatch(grid, ray, interval, method, false, counters, traversal);
+    std::optional<HeightFieldHit> hit(std::in_place);
+    if (!dispatch(grid, ray, interval, method, false, counters, traversal, &*hit)) hit.reset();
+    return hit;
 }
 
 bool occluded(const HeightGrid& grid, const Ray& ray, Interval interval, CellMethod method, TraceCounters* counters,
               Traversal traversal) {
-    return dispatch(grid, ray, interval, method, true, counters, traversal).has_value();
+    return dispatch(grid, ray, interval, method, true, counters, traversal, nullptr);
 }
 
 glm::dvec3 spawnOrigin(const HeightFieldHit& hit, const glm::dvec3& dir) {
