@@ -2,7 +2,6 @@
 // and whole rays through the maximum pyramid against the flat walk on a fractal grid. Run as
 //   build/bench/terracast-microbench --benchmark_filter=Cell   (or Dda, Pyramid)
 #include "heightfield/cell_intersectors.h"
-#include "heightfield/dda.h"
 #include "heightfield/fractal_terrain.h"
 #include "heightfield/traversal.h"
 
@@ -91,31 +90,34 @@ BENCHMARK(BM_CellBilinearLongDouble);
 BENCHMARK(BM_CellTrianglesFloat);
 BENCHMARK(BM_CellNearestFloat);
 
-// One step of the walk: a long ray in a random direction over a grid of 2^20 x 2^20 cells, 4096 steps per
-// ray; the time per item is the time per step.
+// One step of the tracer's cell walk: the flat traversal (no pyramid) of a horizontal ray 1 m above a flat grid
+// of 4097 x 4097 cells, in a random direction from the centre, for 2048 cells' length; every cell is visited
+// and passed over, so the time per item is the cost of one DDA step with its per-cell height test. (One corner
+// vertex stands 2 m high so that the ray lies inside the grid's height range; no ray comes near it.)
 void BM_DdaStep(benchmark::State& state) {
-    constexpr int64_t kCells = int64_t(1) << 20;
-    constexpr int64_t kSteps = 4096;
+    constexpr int64_t kSize = 4097;
+    static const HeightGrid grid = [] {
+        std::vector<float> z(size_t(kSize * kSize), 0.0f);
+        z.back() = 2.0f;
+        return HeightGrid(kSize, kSize, 1.0, 1.0, std::move(z));
+    }();
     std::mt19937_64 rng(11);
     std::uniform_real_distribution<double> U(0.0, 1.0);
-    std::vector<glm::dvec2> dirs(kSamples);
-    for (auto& d : dirs) {
+    std::vector<Ray> rays(kSamples);
+    for (auto& r : rays) {
         const double a = 2.0 * 3.14159265358979323846 * U(rng);
-        d = {std::cos(a), std::sin(a)};
+        r.origin = {0.5 * double(kSize - 1) + 0.3, 0.5 * double(kSize - 1) + 0.7, 1.0};
+        r.dir = {std::cos(a), std::sin(a), 0.0};
     }
-    const glm::dvec2 origin{0.5 * double(kCells) + 0.3, 0.5 * double(kCells) + 0.7};
+    TraceCounters counters;
+    for (const Ray& r : rays) intersect(grid, r, {0.0, 2048.0}, CellMethod::Bilinear, &counters, Traversal::Flat);
     size_t k = 0;
-    int64_t steps = 0;
     for (auto _ : state) {
-        int64_t n = 0;
-        walkCells(kCells, kCells, origin, dirs[k], 0.0, kInfinity, [&](const CellVisit& v) {
-            benchmark::DoNotOptimize(v.tExit);
-            return ++n == kSteps;
-        });
-        steps += n;
+        benchmark::DoNotOptimize(intersect(grid, rays[k], {0.0, 2048.0}, CellMethod::Bilinear, nullptr, Traversal::Flat));
         k = (k + 1) & (kSamples - 1);
     }
-    state.SetItemsProcessed(steps);
+    // Items: cells walked (the same for every pass over the sample rays).
+    state.SetItemsProcessed(int64_t(double(state.iterations()) * double(counters.cellsVisited) / double(kSamples)));
 }
 BENCHMARK(BM_DdaStep);
 

@@ -35,6 +35,7 @@ struct Float32Heights {
     const float* h;
     int64_t width;
     float operator()(int64_t i, int64_t j) const { return h[j * width + i]; }
+    void prefetch(int64_t i, int64_t j) const { __builtin_prefetch(h + (j * width + i)); }
 };
 struct Int16Heights {
     const int16_t* q;
@@ -42,6 +43,7 @@ struct Int16Heights {
     int32_t offset;
     double scale;
     float operator()(int64_t i, int64_t j) const { return float(double(int32_t(q[j * width + i]) + offset) * scale); }
+    void prefetch(int64_t i, int64_t j) const { __builtin_prefetch(q + (j * width + i)); }
 };
 // One metre per code: the decoded height is the integer itself (exact in float below 2^24 m).
 struct Int16UnitHeights {
@@ -49,6 +51,7 @@ struct Int16UnitHeights {
     int64_t width;
     int32_t offset;
     float operator()(int64_t i, int64_t j) const { return float(int32_t(q[j * width + i]) + offset); }
+    void prefetch(int64_t i, int64_t j) const { __builtin_prefetch(q + (j * width + i)); }
 };
 
 // The corners of cell (i, j) relative to `baseM`. Cell math runs on heights relative to the cell's own
@@ -386,6 +389,9 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
         const CellSide exit = ends && t1 < tBoundary ? CellSide::Interior
                               : crossX               ? (posX ? CellSide::XHigh : CellSide::XLow)
                                                      : (posY ? CellSide::YHigh : CellSide::YLow);
+        // The row a step along y reaches next is the one most likely to miss the cache (rows lie a grid width
+        // apart); ask for it while this cell is tested.
+        at.prefetch(i, std::clamp(j + (posY ? 2 : -1), int64_t(0), cellsY));
         const Visit visit = visitCell(i, j, t, tExit, entry, exit);
         if (visit == Visit::Hit || ends) break;
         // Try the pyramid only after a cell the ray passed over: a cell the ray might touch cannot lie in a
