@@ -377,7 +377,11 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
                 entry = posY ? CellSide::YLow : CellSide::YHigh;
             }
             t = tb;
-            level = std::min(level + 1, levels);
+            // Climb a level, unless a descending ray stays inside the parent block: it came down into this block
+            // because the parent failed the test, and for a descending ray the parent's remaining stretch ends at
+            // the same exit, as low, so it would fail again; the sibling at this level is tested instead.
+            if (level < levels && (dz > 0.0 || (i >> (level + 1)) != (bi >> 1) || (j >> (level + 1)) != (bj >> 1)))
+                ++level;
             continue;
         }
 
