@@ -46,6 +46,8 @@ void requireSameHits(const HeightGrid& g, int n, uint64_t seed, bool expectSkips
                 REQUIRE(a->t == b->t);
                 REQUIRE(a->cellX == b->cellX);
                 REQUIRE(a->cellY == b->cellY);
+                // The cell is entered through the same side, so a wall hit of `nearest` has the same normal.
+                REQUIRE(a->normal == b->normal);
             }
             REQUIRE(occluded(g, ray, {0, kInfinity}, m, nullptr, Traversal::Pyramid) ==
                     occluded(g, ray, {0, kInfinity}, m, nullptr, Traversal::Flat));
