@@ -97,18 +97,20 @@ PinholeCamera benchCamera(const HeightGrid& grid, BenchCamera camera, double asp
     return cam;
 }
 
-FlushDenormalsScope::FlushDenormalsScope() {
+detail::FlushedArena::FlushedArena() {
 #ifdef TERRACAST_HAVE_MXCSR
-    savedCsr_ = _mm_getcsr();
+    savedCsr = _mm_getcsr();
 #endif
     setFlushModes();
-    observe(true);
+    arena.initialize();
 }
+
+FlushDenormalsScope::FlushDenormalsScope() : tbb::task_scheduler_observer(arena) { observe(true); }
 
 FlushDenormalsScope::~FlushDenormalsScope() {
     observe(false);
 #ifdef TERRACAST_HAVE_MXCSR
-    _mm_setcsr(savedCsr_);
+    _mm_setcsr(savedCsr);
 #endif
 }
 
@@ -129,56 +131,58 @@ BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& s) {
     out.cells = grid.cellsX() * grid.cellsY();
     const double aspect = double(s.width) / double(s.height);
     const int buildThreads = s.threadCounts.empty() ? 0 : *std::max_element(s.threadCounts.begin(), s.threadCounts.end());
-    const FlushDenormalsScope flush;
+    FlushDenormalsScope flush;
 
     std::vector<double> referenceT;  // the first measured method's hit distances in the first pass
-    for (BenchMethod method : s.methods) {
-        BenchMethodResult r;
-        r.method = method;
-        if (s.refuse)
-            if (const auto need = s.refuse(method)) {
-                r.skipped = true;
-                r.neededBytes = *need;
-                out.methods.push_back(std::move(r));
-                continue;
-            }
-        if (s.onStep) s.onStep(std::string("building ") + benchMethodName(method));
-        const TerrainSurface surface(grid, benchSurfaceMethod(method), buildThreads, benchTraversal(method));
-        r.buildSeconds = surface.buildSeconds();
-        r.memoryBytes = surface.memoryBytes();
-        r.peakMemoryBytes = std::max(surface.peakMemoryBytes(), r.memoryBytes);
-        r.bytesPerCell = double(r.memoryBytes) / double(out.cells);
-        r.peakBytesPerCell = double(r.peakMemoryBytes) / double(out.cells);
-        for (BenchCamera camera : s.cameras)
-            for (int threads : s.threadCounts) {
-                if (s.onStep)
-                    s.onStep(std::string(benchMethodName(method)) + ", " + benchCameraName(camera) + " camera, " +
-                             std::to_string(threads) + (threads == 1 ? " thread" : " threads"));
-                TerrainRenderSettings rs;
-                rs.width = s.width;
-                rs.height = s.height;
-                rs.threads = threads;
-                rs.sun.azimuthDeg = s.sunAzimuthDeg;
-                rs.sun.elevationDeg = s.sunElevationDeg;
-                rs.camera = benchCamera(grid, camera, aspect);
-                const MethodComparison m = traceSurface(grid, surface, rs, false);  // rates and hit distances only
-                BenchPass p;
-                p.camera = camera;
-                p.threads = threads;
-                p.primaryRays = m.primaryRays;
-                p.shadowRays = m.shadowRays;
-                p.primaryRaysPerSecond = m.primaryRaysPerSecond;
-                p.shadowRaysPerSecond = m.shadowRaysPerSecond;
-                if (r.passes.empty()) {
-                    if (referenceT.empty()) referenceT = m.hitT;
-                    int64_t agree = 0;
-                    for (size_t k = 0; k < m.hitT.size(); ++k) agree += std::isnan(m.hitT[k]) == std::isnan(referenceT[k]);
-                    r.hitAgreement = m.hitT.empty() ? 0.0 : double(agree) / double(m.hitT.size());
+    flush.run([&] {
+        for (BenchMethod method : s.methods) {
+            BenchMethodResult r;
+            r.method = method;
+            if (s.refuse)
+                if (const auto need = s.refuse(method)) {
+                    r.skipped = true;
+                    r.neededBytes = *need;
+                    out.methods.push_back(std::move(r));
+                    continue;
                 }
-                r.passes.push_back(p);
-            }
-        out.methods.push_back(std::move(r));
-    }
+            if (s.onStep) s.onStep(std::string("building ") + benchMethodName(method));
+            const TerrainSurface surface(grid, benchSurfaceMethod(method), buildThreads, benchTraversal(method));
+            r.buildSeconds = surface.buildSeconds();
+            r.memoryBytes = surface.memoryBytes();
+            r.peakMemoryBytes = std::max(surface.peakMemoryBytes(), r.memoryBytes);
+            r.bytesPerCell = double(r.memoryBytes) / double(out.cells);
+            r.peakBytesPerCell = double(r.peakMemoryBytes) / double(out.cells);
+            for (BenchCamera camera : s.cameras)
+                for (int threads : s.threadCounts) {
+                    if (s.onStep)
+                        s.onStep(std::string(benchMethodName(method)) + ", " + benchCameraName(camera) + " camera, " +
+                                 std::to_string(threads) + (threads == 1 ? " thread" : " threads"));
+                    TerrainRenderSettings rs;
+                    rs.width = s.width;
+                    rs.height = s.height;
+                    rs.threads = threads;
+                    rs.sun.azimuthDeg = s.sunAzimuthDeg;
+                    rs.sun.elevationDeg = s.sunElevationDeg;
+                    rs.camera = benchCamera(grid, camera, aspect);
+                    const MethodComparison m = traceSurface(grid, surface, rs, false);  // rates and hit distances only
+                    BenchPass p;
+                    p.camera = camera;
+                    p.threads = threads;
+                    p.primaryRays = m.primaryRays;
+                    p.shadowRays = m.shadowRays;
+                    p.primaryRaysPerSecond = m.primaryRaysPerSecond;
+                    p.shadowRaysPerSecond = m.shadowRaysPerSecond;
+                    if (r.passes.empty()) {
+                        if (referenceT.empty()) referenceT = m.hitT;
+                        int64_t agree = 0;
+                        for (size_t k = 0; k < m.hitT.size(); ++k) agree += std::isnan(m.hitT[k]) == std::isnan(referenceT[k]);
+                        r.hitAgreement = m.hitT.empty() ? 0.0 : double(agree) / double(m.hitT.size());
+                    }
+                    r.passes.push_back(p);
+                }
+            out.methods.push_back(std::move(r));
+        }
+    });
 
     // Ratios to Embree's triangle mesh, pass by pass.
     const BenchMethodResult* embree = nullptr;

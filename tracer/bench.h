@@ -8,6 +8,7 @@
 #include "tracer/camera.h"
 #include "tracer/surface.h"
 
+#include <tbb/task_arena.h>
 #include <tbb/task_scheduler_observer.h>
 
 #include <cstdint>
@@ -15,6 +16,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace terracast {
@@ -46,20 +48,33 @@ const char* benchCameraName(BenchCamera camera);
 // The pinhole camera of a view of `grid` for a film of the given aspect ratio (width / height).
 PinholeCamera benchCamera(const HeightGrid& grid, BenchCamera camera, double aspect);
 
-// While alive, flushes denormals to zero (FTZ and DAZ in MXCSR) on the calling thread and on every TBB thread
-// that enters its arena, so the direct tracer and Embree run under the same floating-point modes. (TBB also
-// hands the calling thread's modes to the tasks of algorithms it starts; the observer covers threads that
-// join otherwise.) The calling thread's modes are restored on destruction. A no-op where SSE is absent.
-class FlushDenormalsScope : public tbb::task_scheduler_observer {
+namespace detail {
+// Sets FTZ and DAZ on the calling thread, keeping its previous modes, and then makes a task arena: an arena
+// hands the modes of the thread that makes it to every task it runs, on any thread.
+struct FlushedArena {
+    FlushedArena();
+    unsigned savedCsr = 0;
+    tbb::task_arena arena;
+};
+}  // namespace detail
+
+// While alive, flushes denormals to zero (FTZ and DAZ in MXCSR) on the calling thread and, for work started
+// through run(), on every TBB thread that takes part, so the direct tracer and Embree run under the same
+// floating-point modes. Work goes through its own arena because TBB's shared arena hands out the modes of
+// whichever thread created it first; the observer also sets them on each thread that joins. The calling
+// thread's modes are restored on destruction. A no-op where SSE is absent.
+class FlushDenormalsScope : private detail::FlushedArena, public tbb::task_scheduler_observer {
 public:
     FlushDenormalsScope();
     ~FlushDenormalsScope() override;
     FlushDenormalsScope(const FlushDenormalsScope&) = delete;
     FlushDenormalsScope& operator=(const FlushDenormalsScope&) = delete;
     void on_scheduler_entry(bool isWorker) override;
-
-private:
-    unsigned savedCsr_ = 0;
+    // Runs f in the scope's arena and returns what it returns.
+    template <class F>
+    decltype(auto) run(F&& f) {
+        return arena.execute(std::forward<F>(f));
+    }
 };
 
 // True when the calling thread flushes denormal results and operands to zero.

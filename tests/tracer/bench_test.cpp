@@ -24,17 +24,17 @@ TEST_CASE("bench: FTZ and DAZ hold on every thread inside the scope, and the cal
     std::mutex lock;
     std::set<std::thread::id> threads;
     {
-        const FlushDenormalsScope scope;
+        FlushDenormalsScope scope;
         CHECK(denormalsFlushed());
         const tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
-        tbb::parallel_for(0, 2000, [&](int) {
+        scope.run([&] { tbb::parallel_for(0, 2000, [&](int) {
             volatile double spin = 0.0;
             for (int k = 0; k < 2000; ++k) spin = spin + 1.0;  // long enough for a worker to join
             unflushed += denormalsFlushed() ? 0 : 1;
             ++tasks;
             const std::lock_guard<std::mutex> hold(lock);
             threads.insert(std::this_thread::get_id());
-        });
+        }); });
         // A denormal operand reads as zero under DAZ.
         volatile float tiny = 1e-40f;
         CHECK(tiny * 1.0f == 0.0f);
