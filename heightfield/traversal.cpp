@@ -297,8 +297,10 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     const double ox = og.x, oy = og.y, oz = og.z, dz = dg.z;
     // The parameter of the boundary x = const is (x - ox) / dx, taken as a product with the reciprocal; a ray
     // parallel to the boundaries gets +infinity from the added bias (0 otherwise, which changes no bit).
-    const double invX = dg.x != 0.0 ? 1.0 / dg.x : 0.0, invY = dg.y != 0.0 ? 1.0 / dg.y : 0.0;
-    const double biasX = dg.x != 0.0 ? 0.0 : kInfinity, biasY = dg.y != 0.0 ? 0.0 : kInfinity;
+    // A component so small that its reciprocal overflows (subnormal) counts as parallel too.
+    const bool movesX = dg.x != 0.0 && std::isfinite(1.0 / dg.x), movesY = dg.y != 0.0 && std::isfinite(1.0 / dg.y);
+    const double invX = movesX ? 1.0 / dg.x : 0.0, invY = movesY ? 1.0 / dg.y : 0.0;
+    const double biasX = movesX ? 0.0 : kInfinity, biasY = movesY ? 0.0 : kInfinity;
     auto tAtX = [=](int64_t x) { return (double(x) - ox) * invX + biasX; };
     auto tAtY = [=](int64_t y) { return (double(y) - oy) * invY + biasY; };
     // The ray parameter where the walk leaves column i (row j) in its direction of travel.
@@ -318,19 +320,21 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     // The column (row) the flat walk stands in once it has crossed exactly those boundaries of that axis
     // whose parameter is below tb, or also those at tb when `inclusive`. The flat walk crosses boundaries in
     // order of t, x before y on a tie, so "every boundary below tb, and the x boundaries at tb" and "every
-    // boundary below tb" are both states it passes through. Starts from the point's floor and corrects by the
-    // boundary parameters; -1 when the flat walk would have left the grid first.
-    auto settle = [&](double o, double d, int64_t cells, double tb, int64_t step, bool inclusive,
+    // boundary below tb" are both states it passes through. Starts from the point's floor, never behind the
+    // current index `from` (the flat walk does not step back), and corrects by the boundary parameters; -1
+    // when the flat walk would have left the grid first.
+    auto settle = [&](int64_t from, double o, double d, int64_t cells, double tb, int64_t step, bool inclusive,
                       auto exitAt) -> int64_t {
         auto crossed = [&](int64_t c) { return inclusive ? exitAt(c) <= tb : exitAt(c) < tb; };
         auto k = static_cast<int64_t>(std::clamp(o + tb * d, 0.0, static_cast<double>(cells - 1)));
+        if ((k - from) * step < 0) k = from;
         if (crossed(k)) {
             do {
                 k += step;
                 if (k < 0 || k >= cells) return -1;
             } while (crossed(k));
         } else {
-            while (k - step >= 0 && k - step < cells && !crossed(k - step)) k -= step;
+            while (k != from && !crossed(k - step)) k -= step;
         }
         return k;
     };
@@ -366,20 +370,20 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
             if (leavesX) {
                 i = xEdge - 1 + exitOffX;
                 if (i < 0 || i >= cellsX) break;
-                if (dg.y != 0.0) j = settle(oy, dg.y, cellsY, tb, stepY, false, exitY);
+                if (movesY) j = settle(j, oy, dg.y, cellsY, tb, stepY, false, exitY);
                 if (j < 0) break;
                 entry = posX ? CellSide::XLow : CellSide::XHigh;
             } else {
                 j = yEdge - 1 + exitOffY;
                 if (j < 0 || j >= cellsY) break;
-                if (dg.x != 0.0) i = settle(ox, dg.x, cellsX, tb, stepX, true, exitX);
+                if (movesX) i = settle(i, ox, dg.x, cellsX, tb, stepX, true, exitX);
                 if (i < 0) break;
                 entry = posY ? CellSide::YLow : CellSide::YHigh;
             }
             t = tb;
-            // Climb a level, unless a descending ray stays inside the parent block: it came down into this block
-            // because the parent failed the test, and for a descending ray the parent's remaining stretch ends at
-            // the same exit, as low, so it would fail again; the sibling at this level is tested instead.
+            // Climb a level, unless a descending ray stays inside the parent block: the parent's remaining
+            // stretch ends at the same exit, as low as before, so when the walk came down from the parent (the
+            // usual case) it would fail again; the sibling at this level is tested instead.
             if (level < levels && (dz > 0.0 || (i >> (level + 1)) != (bi >> 1) || (j >> (level + 1)) != (bj >> 1)))
                 ++level;
             continue;
