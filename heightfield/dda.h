@@ -44,6 +44,9 @@ inline bool clipToSlab(double o, double d, double lo, double hi, double& t0, dou
 // crossed by origin + t * dir for t in [t0, t1], in order of increasing t. `visit(const CellVisit&)` returns
 // true to stop the walk. Consecutive cells share a boundary: an exact corner crossing visits one of the two
 // side cells with a zero-length segment. Precondition: t0 and t1 finite unless dir.x == dir.y == 0.
+// This is the plain walk, a building block for tools and tests; the tracer's own walk (traversal.cpp) follows
+// the same rules interleaved with the maximum pyramid, with boundary parameters taken as products with the
+// direction's reciprocals.
 template <class Visitor>
 void walkCells(int64_t cellsX, int64_t cellsY, glm::dvec2 origin, glm::dvec2 dir, double t0, double t1,
                Visitor&& visit) {
