@@ -153,6 +153,23 @@ TEST_CASE("CLI: bench on a 65 x 65 grid reports every method on both cameras", "
     CHECK(grid["methods"][0]["passes"][1]["shadow_rays"].number == grid["methods"][1]["passes"][1]["shadow_rays"].number);
 }
 
+TEST_CASE("CLI: bench --methods measures the methods asked for, in report order, with embree as reference",
+          "[cli][bench]") {
+    TempDir dir("bench-cli");
+    const std::string json = (dir.path() / "methods.json").string();
+    const auto r = runTerracast("bench --sizes 17 --threads 1 --methods embree-grid,triangles --json '" + json + "'");
+    INFO(r.err);
+    REQUIRE(r.exitCode == 0);
+    const JsonValue doc = parseJson(slurp(json));
+    REQUIRE(doc["grids"].array.size() == 1);
+    const JsonValue& methods = doc["grids"][0]["methods"];
+    REQUIRE(methods.array.size() == 3);
+    CHECK(methods[0]["name"].string == "triangles");
+    CHECK(methods[1]["name"].string == "embree");
+    CHECK(methods[2]["name"].string == "embree-grid");
+    CHECK(r.out.find("bilinear") == std::string::npos);
+}
+
 TEST_CASE("CLI: bench skips grids over --max-memory and says what they need", "[cli][bench]") {
     TempDir dir("bench-cli");
     const std::string json = (dir.path() / "skipped.json").string();
@@ -169,8 +186,8 @@ TEST_CASE("CLI: bench skips grids over --max-memory and says what they need", "[
     CHECK(large["dem"].string == "synthetic-32769");
     CHECK(large["width"].number == 32769);
     CHECK(large["skipped"].boolean);
-    // float32 heights alone: 32769^2 x 4 bytes, 4 GiB.
-    CHECK(large["memory_needed_bytes"].number > 32769.0 * 32769.0 * 4.0);
+    // The int16 grid (2.7 bytes per cell) is made through a transient float32 copy (4 bytes per vertex).
+    CHECK(large["memory_needed_bytes"].number > 32769.0 * 32769.0 * (4.0 + 2.0));
     CHECK(large["methods"].array.empty());
     for (const JsonValue& g : doc["grids"].array) CHECK(g["skipped"].boolean);
 }
@@ -189,6 +206,8 @@ TEST_CASE("CLI: bench refuses bad options with one line and exit 2", "[cli][benc
         {"--real --data /no/such/folder" + out, "/no/such/folder"},
         {"--sizes 65 --json /no/such/folder/r.json", "/no/such/folder"},
         {"--sizes 65 --svg /no/such/folder/r.svg" + out, "/no/such/folder"},
+        {"--sizes 65 --methods bilinear,nope" + out, "--methods"},
+        {"--sizes 65 --methods bilinear," + out, "--methods"},
     };
     for (const auto& [args, named] : cases) {
         INFO(args);
