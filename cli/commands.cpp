@@ -937,12 +937,18 @@ std::string benchRatioJson(double primary, double shadow) {
 // One grid's object in the bench report: the DESIGN section 8 shape, with the corner camera at the most
 // threads as each method's headline numbers and every pass listed under "passes".
 std::string benchGridJson(const BenchJob& job, const BenchGridResult& r, const BenchSettings& s) {
+    // The agreement's reference: the first method that was measured (a skipped one has no hits).
+    const char* reference = "";
+    for (const auto& m : r.methods)
+        if (!m.skipped) {
+            reference = benchMethodName(m.method);
+            break;
+        }
     std::string j = fmt::format("{{\"dem\": {}, \"synthetic\": {}, \"width\": {}, \"height\": {}, \"cells\": {}, "
                                 "\"image_width\": {}, \"image_height\": {}, \"rays\": {}, \"reference\": \"{}\", "
                                 "\"skipped\": false,\n  \"methods\": [",
                                 jsonString(job.name), job.size > 0 ? "true" : "false", r.width, r.height, r.cells,
-                                s.width, s.height, int64_t(s.width) * s.height,
-                                s.methods.empty() ? "" : benchMethodName(s.methods.front()));
+                                s.width, s.height, int64_t(s.width) * s.height, reference);
     for (size_t k = 0; k < r.methods.size(); ++k) {
         const auto& m = r.methods[k];
         j += k ? "," : "";

@@ -162,6 +162,7 @@ TEST_CASE("CLI: bench --methods measures the methods asked for, in report order,
     REQUIRE(r.exitCode == 0);
     const JsonValue doc = parseJson(slurp(json));
     REQUIRE(doc["grids"].array.size() == 1);
+    CHECK(doc["grids"][0]["reference"].string == "triangles");  // hit agreement is measured against it
     const JsonValue& methods = doc["grids"][0]["methods"];
     REQUIRE(methods.array.size() == 3);
     CHECK(methods[0]["name"].string == "triangles");
