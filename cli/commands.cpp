@@ -861,7 +861,7 @@ namespace {
 
 // One grid of `bench`: a synthetic fractal of some size, or a DEM file.
 struct BenchJob {
-    std::string name;   // as reported: "synthetic-513" or the file's path
+    std::string name;   // as reported: "synthetic-513" or the file's name (no folder: reports name no machine paths)
     int64_t size = 0;   // synthetic: vertices per side; 0 for a file
     std::string path;   // file: the DEM
     bool integer = false;  // synthetic: heights in whole metres, so the grid is held as int16
@@ -1215,7 +1215,7 @@ int runBench(const BenchCommandOptions& o) {
             jobs.push_back({fmt::format("synthetic-{}", size), size, "", o.large && size == 32769});
         if (o.real)
             for (const auto& path : benchRealDems(o.dataDir.empty() ? std::string(TERRACAST_DATA_DIR) : o.dataDir))
-                jobs.push_back({path, 0, path});
+                jobs.push_back({std::filesystem::path(path).filename().string(), 0, path});
 
         const int hardware = std::max(1, int(std::thread::hardware_concurrency()));
         const int most = o.threads > 0 ? o.threads : hardware;
