@@ -113,6 +113,27 @@ void writeFileAtomically(const std::string& path, std::string_view bytes) {
 
 void writeTextFile(const std::string& path, const std::string& text) { writeFileAtomically(path, text); }
 
+namespace {
+
+// The bytes of an image in the format `path`'s extension names, encoded by OpenImageIO in memory from `pixels`
+// (of type `type`, laid out as `spec` says). Throws naming `path` when the encoder fails.
+std::string encodeInMemory(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
+                           const void* pixels) {
+    auto fail = [&](const std::string& reason) {
+        return std::runtime_error(fmt::format("{}: cannot encode the image ({})", path, firstLine(reason)));
+    };
+    OIIO::Filesystem::IOVecOutput encoded;
+    auto output = OIIO::ImageOutput::create(path);
+    if (!output) throw fail(OIIO::geterror());
+    if (!output->set_ioproxy(&encoded) || !output->open(path, spec)) throw fail(output->geterror());
+    if (!output->write_image(type, pixels) || !output->close()) throw fail(output->geterror());
+    output.reset();
+    const std::vector<unsigned char>& bytes = encoded.buffer();
+    return std::string(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+}
+
+}  // namespace
+
 void writeImage(const std::string& path, const RgbImage& image) {
     const std::string ext = lowerExtension(path);
     if (ext != ".png" && ext != ".exr")
@@ -125,29 +146,26 @@ void writeImage(const std::string& path, const RgbImage& image) {
 
     // The image is encoded in memory, then written through writeFileAtomically, which sees every system call's
     // error (a full disk included) and never leaves a partial file.
-    auto fail = [&](const std::string& reason) {
-        return std::runtime_error(fmt::format("{}: cannot encode the image ({})", path, firstLine(reason)));
-    };
-    OIIO::Filesystem::IOVecOutput encoded;
-    auto output = OIIO::ImageOutput::create(path);
-    if (!output) throw fail(OIIO::geterror());
     OIIO::ImageSpec spec(image.width, image.height, 3, png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::HALF);
     spec.attribute("oiio:ColorSpace", png ? "sRGB" : "Linear");
-    if (!output->set_ioproxy(&encoded) || !output->open(path, spec)) throw fail(output->geterror());
-
-    bool written = false;
+    std::string bytes;
     if (png) {
         std::vector<uint8_t> levels(image.rgb.size());
         for (size_t k = 0; k < levels.size(); ++k)
             levels[k] = static_cast<uint8_t>(std::lround(srgbFromLinear(image.rgb[k]) * 255.0f));
-        written = output->write_image(OIIO::TypeDesc::UINT8, levels.data());
+        bytes = encodeInMemory(path, spec, OIIO::TypeDesc::UINT8, levels.data());
     } else {
-        written = output->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data());
+        bytes = encodeInMemory(path, spec, OIIO::TypeDesc::FLOAT, image.rgb.data());
     }
-    if (!written || !output->close()) throw fail(output->geterror());
-    output.reset();
-    const std::vector<unsigned char>& bytes = encoded.buffer();
-    writeFileAtomically(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+    writeFileAtomically(path, bytes);
+}
+
+std::string encodeGreyPng16(const std::string& name, int width, int height, const std::vector<uint16_t>& samples) {
+    if (width <= 0 || height <= 0 || samples.size() != size_t(width) * size_t(height))
+        throw std::invalid_argument(fmt::format("encodeGreyPng16: {} x {} image holds {} samples", width, height,
+                                                samples.size()));
+    const OIIO::ImageSpec spec(width, height, 1, OIIO::TypeDesc::UINT16);
+    return encodeInMemory(name, spec, OIIO::TypeDesc::UINT16, samples.data());
 }
 
 RgbImage readImage(const std::string& path) {

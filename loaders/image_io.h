@@ -1,6 +1,7 @@
 // Writing and reading pictures through OpenImageIO, and writing small text outputs, always atomically.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -21,6 +22,10 @@ struct RgbImage {
 // Writes to a temporary file in the same folder and renames it, so a failure never leaves a partial file.
 // Throws InputError for an unsupported extension or an unwritable folder.
 void writeImage(const std::string& path, const RgbImage& image);
+
+// The bytes of a 16-bit greyscale PNG of width x height samples (row-major, top row first), encoded in memory;
+// `name` (ending in .png) picks the encoder and names the image in errors.
+std::string encodeGreyPng16(const std::string& name, int width, int height, const std::vector<uint16_t>& samples);
 
 // Writes `text` to `path` through a temporary file in the same folder and a rename. Throws InputError for a
 // missing or unwritable folder, std::runtime_error when the write itself fails.
