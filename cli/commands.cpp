@@ -934,6 +934,12 @@ std::string benchRatioJson(double primary, double shadow) {
     return fmt::format("{{\"primary\": {}, \"shadow\": {}}}", jsonNumber(primary), jsonNumber(shadow));
 }
 
+// A method the memory guard left out, as the JSON reports it.
+std::string skippedMethodJson(BenchMethod method, double neededBytes) {
+    return fmt::format("{{\"name\": \"{}\", \"skipped\": true, \"memory_needed_bytes\": {}}}",
+                       benchMethodName(method), jsonNumber(neededBytes));
+}
+
 // One grid's object in the bench report: the DESIGN section 8 shape, with the corner camera at the most
 // threads as each method's headline numbers and every pass listed under "passes".
 std::string benchGridJson(const BenchJob& job, const BenchGridResult& r, const BenchSettings& s) {
@@ -953,8 +959,7 @@ std::string benchGridJson(const BenchJob& job, const BenchGridResult& r, const B
         const auto& m = r.methods[k];
         j += k ? "," : "";
         if (m.skipped) {
-            j += fmt::format("\n   {{\"name\": \"{}\", \"skipped\": true, \"memory_needed_bytes\": {}}}",
-                             benchMethodName(m.method), jsonNumber(m.neededBytes));
+            j += "\n   " + skippedMethodJson(m.method, m.neededBytes);
             continue;
         }
         const BenchPass* head = nullptr;
@@ -1156,8 +1161,7 @@ std::string fileToPictureJson(const FileToPictureResult& f) {
         const auto& r = f.runs[k];
         j += k ? ",\n   " : "\n   ";
         if (r.skipped) {
-            j += fmt::format("{{\"name\": \"{}\", \"skipped\": true, \"memory_needed_bytes\": {}}}",
-                             benchMethodName(r.method), jsonNumber(r.neededBytes));
+            j += skippedMethodJson(r.method, r.neededBytes);
             continue;
         }
         j += fmt::format("{{\"name\": \"{}\", \"skipped\": false, \"load_s\": {}, \"build_s\": {}, \"render_s\": {}, "
