@@ -54,14 +54,14 @@ struct Int16UnitHeights {
     void prefetch(int64_t i, int64_t j) const { __builtin_prefetch(q + (j * width + i)); }
 };
 
-// The corners of cell (i, j) relative to `baseM`. Cell math runs on heights relative to the cell's own
-// h00, so float rounding scales with the cell's relief, not with its altitude (8000 m peaks keep
+// The corners of a cell (as read, exact in double) relative to its own h00. Cell math runs on heights relative
+// to the cell's h00, so float rounding scales with the cell's relief, not with its altitude (8000 m peaks keep
 // millimetres). The differences are taken in Wide arithmetic, where they are exact, then rounded once.
-template <class Real, class Heights>
-CellCorners<Real> corners(const Heights& at, int64_t i, int64_t j, Wide<Real> baseM) {
+template <class Real>
+CellCorners<Real> corners(double h00, double h10, double h01, double h11) {
     using W = Wide<Real>;
-    return {Real(W(at(i, j)) - baseM), Real(W(at(i + 1, j)) - baseM), Real(W(at(i, j + 1)) - baseM),
-            Real(W(at(i + 1, j + 1)) - baseM)};
+    const W base = W(h00);
+    return {Real(W(h00) - base), Real(W(h10) - base), Real(W(h01) - base), Real(W(h11) - base)};
 }
 
 // Surface height minus ray height at a point on the boundary `side` of cell (i, j), or inside the cell,
@@ -191,7 +191,7 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
             hasCarriedG = false;
             return Visit::Tested;
         }
-        const auto h = corners<Real>(at, ci, cj, Wide<Real>(h00));
+        const auto h = corners<Real>(h00, h10, h01, h11);  // the heights read for the tests above
         if (counters) ++counters->cellsTested;
 
         const glm::dvec3 pEnter{og.x + tEnter * dg.x, og.y + tEnter * dg.y, zEnter};
