@@ -27,6 +27,7 @@
 #include <fstream>
 #include <mutex>
 #include <numbers>
+#include <string_view>
 
 namespace terracast {
 namespace {
@@ -215,6 +216,31 @@ Lattice georeference(const std::string& path, GDALDataset& dataset, const DemLoa
     return lattice;
 }
 
+// Refuses a band whose storage blocks are absurd for its raster. GDAL allocates one whole block (all bands of it
+// when they are pixel-interleaved) before decoding it, so a damaged header declaring, say, 32768 x 32768 tiles on
+// a 20 x 20 raster would otherwise cost gigabytes before any read fails. Real files use strips no larger than the
+// raster and tiles of at most a few thousand samples a side.
+void checkBlockSize(const std::string& path, GDALDataset& dataset, GDALRasterBand& band, double maxBytes) {
+    constexpr double kAlwaysAllowedBytes = 64.0 * 1024 * 1024;
+    int blockX = 0;
+    int blockY = 0;
+    band.GetBlockSize(&blockX, &blockY);
+    const char* interleave = dataset.GetMetadataItem("INTERLEAVE", "IMAGE_STRUCTURE");
+    const bool pixelInterleaved = interleave != nullptr && std::string_view(interleave) == "PIXEL";
+    const double sampleBytes = std::max(1, GDALGetDataTypeSizeBytes(band.GetRasterDataType())) *
+                               (pixelInterleaved ? std::max(1, dataset.GetRasterCount()) : 1.0);
+    const double blockBytes = static_cast<double>(std::max(blockX, 1)) * std::max(blockY, 1) * sampleBytes;
+    const double rasterBytes =
+        static_cast<double>(dataset.GetRasterXSize()) * static_cast<double>(dataset.GetRasterYSize()) * sampleBytes;
+    const double limit = maxBytes > 0.0 ? maxBytes : defaultMemoryLimitBytes();
+    const double allowedBytes = std::min(limit, std::max(kAlwaysAllowedBytes, rasterBytes));
+    if (blockBytes > allowedBytes)
+        throw InputError(fmt::format("{}: band 1 of the {} x {} raster is stored in blocks of {} x {} samples "
+                                     "({:.2f} GiB each), expected blocks of at most {:.2f} GiB (damaged header?)",
+                                     path, dataset.GetRasterXSize(), dataset.GetRasterYSize(), blockX, blockY,
+                                     blockBytes / kGiB, allowedBytes / kGiB));
+}
+
 // Reports a non-finite or out-of-range height at raster (column, row).
 [[noreturn]] void throwBadHeight(const std::string& path, int64_t column, int64_t row, double heightM) {
     if (std::isnan(heightM))
@@ -255,6 +281,7 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, c
     const Lattice lattice = georeference(path, *dataset, options, dem.geo, dem.warnings);
 
     GDALRasterBand* band = dataset->GetRasterBand(1);
+    checkBlockSize(path, *dataset, *band, options.maxBytes);
     const VerticalUnit unit = verticalUnit(path, band->GetUnitType() ? band->GetUnitType() : "");
     if (!unit.warning.empty()) dem.warnings.push_back(unit.warning);
     int hasScale = 0;

@@ -105,6 +105,30 @@ void writeTiff(const std::string& path, const TiffSpec& spec) {
     }
 }
 
+// Rewrites the TileWidth and TileLength tags (322, 323) of a little-endian tiled TIFF's first IFD, as a damaged
+// header would declare them. Returns false when the file holds no such tags.
+bool patchTileSize(const std::string& path, uint32_t tileSize) {
+    std::fstream file(path, std::ios::binary | std::ios::in | std::ios::out);
+    std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    auto u16 = [&](size_t at) { return static_cast<uint32_t>(uint8_t(bytes[at]) | uint8_t(bytes[at + 1]) << 8); };
+    auto u32 = [&](size_t at) { return u16(at) | u16(at + 2) << 16; };
+    if (bytes.size() < 8 || bytes.compare(0, 2, "II") != 0) return false;
+    const size_t ifd = u32(4);
+    int patched = 0;
+    for (uint32_t k = 0, n = u16(ifd); k < n; ++k) {
+        const size_t entry = ifd + 2 + 12 * size_t{k};
+        const uint32_t tag = u16(entry);
+        const uint32_t type = u16(entry + 2);  // 3 = SHORT, 4 = LONG
+        if (tag != 322 && tag != 323) continue;
+        const int width = type == 3 ? 2 : 4;
+        for (int b = 0; b < width; ++b) bytes[entry + 8 + size_t(b)] = static_cast<char>(tileSize >> (8 * b));
+        ++patched;
+    }
+    file.seekp(0);
+    file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    return patched == 2;
+}
+
 double validPercent(const HeightGrid& grid) {
     const double n = static_cast<double>(grid.width() * grid.height());
     return 100.0 * (n - static_cast<double>(grid.nodataVertexCount())) / n;
@@ -415,6 +439,24 @@ TEST_CASE("Unreadable inputs throw one-line InputErrors naming the file", "[load
         spec.nodata = -9999.0;
         writeTiff(path, spec);
         CHECK_THAT(loadError(path), Catch::Contains("every vertex is nodata"));
+    }
+    SECTION("GeoTIFF header declaring absurd tiles") {
+        // A 20 x 20 raster claiming 32768 x 32768 int16 tiles: GDAL would allocate 2 GiB for the first tile.
+        path = dir.file("huge-tiles.tif");
+        GDALAllRegister();
+        GDALDatasetUniquePtr dataset(GetGDALDriverManager()->GetDriverByName("GTiff")->Create(
+            path.c_str(), 20, 20, 1, GDT_Int16,
+            std::vector<const char*>{"TILED=YES", "BLOCKXSIZE=16", "BLOCKYSIZE=16", nullptr}.data()));
+        REQUIRE(dataset);
+        std::vector<int16_t> values(400, 7);
+        REQUIRE(dataset->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 20, 20, values.data(), 20, 20, GDT_Int16, 0, 0,
+                                                    nullptr) == CE_None);
+        dataset.reset();
+        // The raster with its real 16 x 16 tiles loads.
+        CHECK(loadDem(path).grid.at(3, 3) == 7.0f);
+        REQUIRE(patchTileSize(path, 32768));
+        CHECK_THAT(loadError(path), Catch::Contains("blocks of 32768 x 32768 samples (2.00 GiB each)") &&
+                                        Catch::Contains("20 x 20 raster"));
     }
     SECTION("raster too large to hold") {
         // A VRT declares any size without storing pixels.
