@@ -280,21 +280,16 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     // have been passed over.
     const int levels = traversal == Traversal::Pyramid ? g.pyramidLevels() : 0;
     const HeightGrid::PyramidView pyramid = g.pyramidView();
-    const double codesPerMetre = 1.0 / pyramid.scale;
-    // The highest pyramid code a block may have for a ray whose lowest height over it is zLow to pass above it by
-    // the margin. Conservative: the threshold is lowered by one code step and by 2^-22 of |zLow|, which covers
-    // the float rounding of the decoded height and of this arithmetic, so a block passing in code space passes
-    // the height test, and the load is followed by one integer comparison instead of a decoding.
-    auto highestCodeBelow = [&](double zLow) {
-        const double v = std::clamp((zLow - margin - pyramid.scale - std::abs(zLow) * 0x1p-22) * codesPerMetre -
-                                        double(pyramid.offset),
-                                    -65536.0, 65536.0);
-        auto q = static_cast<int64_t>(v);
-        if (v < double(q)) --q;
-        return q;
-    };
+    // The block test runs in code space: a block is passed when its code lies below the ray's lowest height over
+    // it, mapped to codes after lowering it by the margin, by one code step and by 2^-22 of the largest height
+    // magnitude. Conservative: those cover the float rounding of the decoded heights and of this arithmetic, so
+    // a block passing in code space passes the height test. The ray's code-space height is linear in t.
+    const double codeSlackM = margin + pyramid.scale + 0x1p-22 * (heightScale + pyramid.scale);
+    const double codeZ0 = (og.z - codeSlackM) / pyramid.scale - double(pyramid.offset);
+    const double codeDz = dg.z / pyramid.scale;
+    const bool descending = dg.z < 0.0;
     const bool posX = dg.x > 0.0, posY = dg.y > 0.0;
-    const double ox = og.x, oy = og.y, oz = og.z, dz = dg.z;
+    const double ox = og.x, oy = og.y, dz = dg.z;
     // The parameter of the boundary x = const is (x - ox) / dx, taken as a product with the reciprocal; a ray
     // parallel to the boundaries gets +infinity from the added bias (0 otherwise, which changes no bit).
     // A component so small that its reciprocal overflows (subnormal) counts as parallel too.
@@ -352,14 +347,15 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
         if (level > 0) {
             const int64_t bi = i >> level, bj = j >> level;
             // The block's exit edges in the direction of travel (clipped to the grid) and their parameters.
-            const int64_t xEdge = std::min((bi + exitOffX) << level, cellsX);
-            const int64_t yEdge = std::min((bj + exitOffY) << level, cellsY);
+            // (A last, partial block's exit edge may lie beyond the grid; its stretch still ends at t1.)
+            const int64_t xEdge = (bi + exitOffX) << level;
+            const int64_t yEdge = (bj + exitOffY) << level;
             const double txb = tAtX(xEdge), tyb = tAtY(yEdge);
             const bool leavesX = txb <= tyb;
             const double tb = leavesX ? txb : tyb;
             const double tOut = std::max(t, std::min(tb, t1));
-            const int64_t limit = highestCodeBelow(std::min(oz + t * dz, oz + tOut * dz));
-            if (!(tOut > t) || int64_t(pyramid.code(level, bi, bj)) > limit) {
+            const double tLow = descending ? tOut : t;
+            if (!(tOut > t) || !(double(pyramid.code(level, bi, bj)) < codeZ0 + codeDz * tLow)) {
                 --level;
                 continue;
             }
