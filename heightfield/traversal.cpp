@@ -290,14 +290,14 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     const bool descending = dg.z < 0.0;
     const bool posX = dg.x > 0.0, posY = dg.y > 0.0;
     const double ox = og.x, oy = og.y, dz = dg.z;
-    // The parameter of the boundary x = const is (x - ox) / dx, taken as a product with the reciprocal; a ray
-    // parallel to the boundaries gets +infinity from the added bias (0 otherwise, which changes no bit).
-    // A component so small that its reciprocal overflows (subnormal) counts as parallel too.
+    // The parameter of the boundary x = const is (x - ox) / dx, taken as x / dx - ox / dx with the reciprocal;
+    // for a ray parallel to the boundaries the reciprocal is 0 and the constant +infinity, so every boundary
+    // lies at +infinity. A component so small that its reciprocal overflows (subnormal) counts as parallel too.
     const bool movesX = dg.x != 0.0 && std::isfinite(1.0 / dg.x), movesY = dg.y != 0.0 && std::isfinite(1.0 / dg.y);
     const double invX = movesX ? 1.0 / dg.x : 0.0, invY = movesY ? 1.0 / dg.y : 0.0;
-    const double biasX = movesX ? 0.0 : kInfinity, biasY = movesY ? 0.0 : kInfinity;
-    auto tAtX = [=](int64_t x) { return (double(x) - ox) * invX + biasX; };
-    auto tAtY = [=](int64_t y) { return (double(y) - oy) * invY + biasY; };
+    const double tAtX0 = movesX ? -ox * invX : kInfinity, tAtY0 = movesY ? -oy * invY : kInfinity;
+    auto tAtX = [=](int64_t x) { return double(x) * invX + tAtX0; };
+    auto tAtY = [=](int64_t y) { return double(y) * invY + tAtY0; };
     // The ray parameter where the walk leaves column i (row j) in its direction of travel.
     const int64_t exitOffX = posX ? 1 : 0, exitOffY = posY ? 1 : 0;
     auto exitX = [=](int64_t i) { return tAtX(i + exitOffX); };
