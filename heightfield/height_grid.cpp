@@ -48,6 +48,8 @@ HeightGrid::HeightGrid(int64_t width, int64_t height, double cellSizeXM, double 
     if (!(cellSizeXM_ > 0.0) || !(cellSizeYM_ > 0.0) || !std::isfinite(cellSizeXM_) || !std::isfinite(cellSizeYM_))
         throw GridError("cell sizes must be positive and finite, got " + std::to_string(cellSizeXM_) + " x " +
                         std::to_string(cellSizeYM_) + " m");
+    cellsPerMetreX_ = 1.0 / cellSizeXM_;
+    cellsPerMetreY_ = 1.0 / cellSizeYM_;
     const auto n = static_cast<size_t>(width_) * static_cast<size_t>(height_);
     if (heightsM_.size() != n)
         throw GridError("expected " + std::to_string(n) + " heights, got " + std::to_string(heightsM_.size()));

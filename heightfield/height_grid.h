@@ -50,6 +50,8 @@ public:
     int64_t cellsY() const { return height_ - 1; }
     double cellSizeXM() const { return cellSizeXM_; }
     double cellSizeYM() const { return cellSizeYM_; }
+    double cellsPerMetreX() const { return cellsPerMetreX_; }  // 1 / cellSizeXM(), kept so rays need no division
+    double cellsPerMetreY() const { return cellsPerMetreY_; }
 
     float at(int64_t i, int64_t j) const {
         const auto k = static_cast<size_t>(j * width_ + i);
@@ -106,13 +108,15 @@ public:
         const int64_t* blocksX;   // blocksX[k - 1]: blocks per row of level k
         int32_t offset;
         double scale;
+        double codesPerMetre;  // 1 / scale
         int16_t code(int k, int64_t bi, int64_t bj) const { return codes[start[k - 1] + bj * blocksX[k - 1] + bi]; }
         double blockMaxM(int k, int64_t bi, int64_t bj) const {
             return double(float(double(int32_t(code(k, bi, bj)) + offset) * scale));
         }
     };
     PyramidView pyramidView() const {
-        return {pyramidCodes_.data(), levelStart_.data(), levelBlocksX_.data(), pyramidOffset_, pyramidScale_};
+        return {pyramidCodes_.data(), levelStart_.data(), levelBlocksX_.data(), pyramidOffset_, pyramidScale_,
+                1.0 / pyramidScale_};
     }
 
 private:
@@ -129,6 +133,8 @@ private:
     int64_t height_ = 0;
     double cellSizeXM_ = 1.0;
     double cellSizeYM_ = 1.0;
+    double cellsPerMetreX_ = 1.0;
+    double cellsPerMetreY_ = 1.0;
     HeightStorage storage_ = HeightStorage::Float32;
     StoragePolicy policy_ = StoragePolicy::Auto;
     double scaleHint_ = 0.0;

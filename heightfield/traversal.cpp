@@ -128,20 +128,33 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
            TraceCounters* counters, Traversal traversal, HeightFieldHit* out) {
     bool result = false;
     if (interval.empty()) return result;
-    const glm::dvec3 og{ray.origin.x / g.cellSizeXM(), ray.origin.y / g.cellSizeYM(), ray.origin.z};
-    const glm::dvec3 dg{ray.dir.x / g.cellSizeXM(), ray.dir.y / g.cellSizeYM(), ray.dir.z};
+    const glm::dvec3 og{ray.origin.x * g.cellsPerMetreX(), ray.origin.y * g.cellsPerMetreY(), ray.origin.z};
+    const glm::dvec3 dg{ray.dir.x * g.cellsPerMetreX(), ray.dir.y * g.cellsPerMetreY(), ray.dir.z};
     if (dg.x == 0.0 && dg.y == 0.0 && dg.z == 0.0) return result;
     if (!std::isfinite(og.x + og.y + og.z + dg.x + dg.y + dg.z)) return result;
+    // The direction's reciprocals, 0 along an axis the ray does not move along. A component so small that its
+    // reciprocal overflows (subnormal) counts as not moving too.
+    const glm::dvec3 inv = 1.0 / dg;
+    const bool movesX = std::isfinite(inv.x), movesY = std::isfinite(inv.y), movesZ = std::isfinite(inv.z);
+    const double invX = movesX ? inv.x : 0.0, invY = movesY ? inv.y : 0.0, invZ = movesZ ? inv.z : 0.0;
+    // Clips [t0, t1] to the slab lo <= o + t d <= hi, as clipToSlab does but with the reciprocal.
+    auto clip = [](double o, bool moves, double invD, double lo, double hi, double& ta, double& tb) {
+        if (!moves) return lo <= o && o <= hi;
+        const double tl = (lo - o) * invD, th = (hi - o) * invD;
+        ta = std::max(ta, std::min(tl, th));
+        tb = std::min(tb, std::max(tl, th));
+        return ta <= tb;
+    };
 
     // The z slab is padded so a flat grid (zmin == zmax) still yields a segment of non-zero length.
     const double zLo = g.minHeightM(), zHi = g.maxHeightM();
     const double zPad = 1e-6 * (1.0 + std::max(std::abs(zLo), std::abs(zHi)));
     double t0 = interval.lo, t1 = interval.hi;
-    if (!clipToSlab(og.z, dg.z, zLo - zPad, zHi + zPad, t0, t1)) return result;
+    if (!clip(og.z, movesZ, invZ, zLo - zPad, zHi + zPad, t0, t1)) return result;
     if (!std::isfinite(t0) || !std::isfinite(t1)) {
         // Only a horizontal ray with an unbounded interval gets here; bound it by the footprint.
-        if (!clipToSlab(og.x, dg.x, 0.0, double(g.cellsX()), t0, t1)) return result;
-        if (!clipToSlab(og.y, dg.y, 0.0, double(g.cellsY()), t0, t1)) return result;
+        if (!clip(og.x, movesX, invX, 0.0, double(g.cellsX()), t0, t1)) return result;
+        if (!clip(og.y, movesY, invY, 0.0, double(g.cellsY()), t0, t1)) return result;
         if (!std::isfinite(t0) || !std::isfinite(t1)) return result;
     }
 
@@ -154,8 +167,8 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     if (counters) margin = std::max(margin, tolerance);
 
     const int64_t cellsX = g.cellsX(), cellsY = g.cellsY();
-    if (!clipToSlab(og.x, dg.x, 0.0, double(cellsX), t0, t1)) return result;
-    if (!clipToSlab(og.y, dg.y, 0.0, double(cellsY), t0, t1)) return result;
+    if (!clip(og.x, movesX, invX, 0.0, double(cellsX), t0, t1)) return result;
+    if (!clip(og.y, movesY, invY, 0.0, double(cellsY), t0, t1)) return result;
 
     // G at the exit of the last cell tested, while every cell walked since has had (almost) zero length. An exact
     // corner crossing visits a zero-length cell between two diagonal neighbours; when that cell is a hole,
@@ -285,16 +298,14 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     // magnitude. Conservative: those cover the float rounding of the decoded heights and of this arithmetic, so
     // a block passing in code space passes the height test. The ray's code-space height is linear in t.
     const double codeSlackM = margin + pyramid.scale + 0x1p-22 * (heightScale + pyramid.scale);
-    const double codeZ0 = (og.z - codeSlackM) / pyramid.scale - double(pyramid.offset);
-    const double codeDz = dg.z / pyramid.scale;
+    const double codeZ0 = (og.z - codeSlackM) * pyramid.codesPerMetre - double(pyramid.offset);
+    const double codeDz = dg.z * pyramid.codesPerMetre;
     const bool descending = dg.z < 0.0;
     const bool posX = dg.x > 0.0, posY = dg.y > 0.0;
     const double ox = og.x, oy = og.y, dz = dg.z;
     // The parameter of the boundary x = const is (x - ox) / dx, taken as x / dx - ox / dx with the reciprocal;
     // for a ray parallel to the boundaries the reciprocal is 0 and the constant +infinity, so every boundary
-    // lies at +infinity. A component so small that its reciprocal overflows (subnormal) counts as parallel too.
-    const bool movesX = dg.x != 0.0 && std::isfinite(1.0 / dg.x), movesY = dg.y != 0.0 && std::isfinite(1.0 / dg.y);
-    const double invX = movesX ? 1.0 / dg.x : 0.0, invY = movesY ? 1.0 / dg.y : 0.0;
+    // lies at +infinity.
     const double tAtX0 = movesX ? -ox * invX : kInfinity, tAtY0 = movesY ? -oy * invY : kInfinity;
     auto tAtX = [=](int64_t x) { return double(x) * invX + tAtX0; };
     auto tAtY = [=](int64_t y) { return double(y) * invY + tAtY0; };
@@ -328,8 +339,9 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
                 k += step;
                 if (k < 0 || k >= cells) return -1;
             } while (crossed(k));
-        } else {
-            while (k != from && !crossed(k - step)) k -= step;
+        } else if ((k != from) & !crossed(k - step)) {  // rare: evaluated without a data-dependent branch
+            do k -= step;
+            while (k != from && !crossed(k - step));
         }
         return k;
     };
