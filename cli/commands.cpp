@@ -1226,6 +1226,7 @@ int runBench(const BenchCommandOptions& o) {
         BenchSettings settings;
         if (!o.methods.empty()) settings.methods = parseBenchMethods(o.methods);
         settings.threadCounts = most > 1 ? std::vector<int>{1, most} : std::vector<int>{1};
+        settings.repeat = o.repeat;
         const double limit = o.maxMemoryBytes > 0.0 ? o.maxMemoryBytes : defaultMemoryLimitBytes();
         // Per pixel while a pass runs: its hits, directions, shadow verdicts, picture and hit distances, plus
         // the first method's hit distances kept for the agreement.
@@ -1238,14 +1239,16 @@ int runBench(const BenchCommandOptions& o) {
 
         fmt::print("terracast bench: {} x {} camera rays per view (corner: south-west, 30 degrees down; grazing: above "
                    "the highest peak, 8 degrees down), sun at azimuth {:g}, elevation {:g} degrees, one shadow ray per "
-                   "hit facing it; {} thread{} ({}); FTZ/DAZ on for every method\n",
+                   "hit facing it; {} thread{} ({}); FTZ/DAZ on for every method; fastest of {} trace{} per pass\n",
                    settings.width, settings.height, settings.sunAzimuthDeg, settings.sunElevationDeg,
-                   most > 1 ? fmt::format("1 and {}", most) : "1", most > 1 ? "s" : "", machine);
+                   most > 1 ? fmt::format("1 and {}", most) : "1", most > 1 ? "s" : "", machine, settings.repeat,
+                   settings.repeat == 1 ? "" : "s");
         std::string json = fmt::format("{{\"image_width\": {}, \"image_height\": {}, \"sun_azimuth_deg\": {}, "
-                                       "\"sun_elevation_deg\": {}, \"cpu\": {}, \"hardware_threads\": {}, \"threads\": [{}],\n \"grids\": [",
+                                       "\"sun_elevation_deg\": {}, \"cpu\": {}, \"hardware_threads\": {}, \"threads\": [{}], "
+                                       "\"repeat\": {},\n \"grids\": [",
                                        settings.width, settings.height, jsonNumber(settings.sunAzimuthDeg),
                                        jsonNumber(settings.sunElevationDeg), jsonString(cpu), hardware,
-                                       most > 1 ? fmt::format("1, {}", most) : "1");
+                                       most > 1 ? fmt::format("1, {}", most) : "1", settings.repeat);
         std::vector<BenchGridResult> plotted;  // the synthetic grids measured, for --svg
         const auto start = std::chrono::steady_clock::now();
         for (size_t g = 0; g < jobs.size(); ++g) {

@@ -208,6 +208,9 @@ int main(int argc, char** argv) {
     benchCmd->add_option("--threads", bench.threads,
                          "Thread count measured beside 1 thread, 0 = all cores (default 0)")
         ->check(CLI::Range(0, 4096));
+    benchCmd->add_option("--repeat", bench.repeat,
+                         "Trace each pass this many times and report the fastest (default 3)")
+        ->check(CLI::Range(1, 100));
     benchCmd->add_option("--json", bench.json, "Write the report as JSON to this file");
     benchCmd->add_option("--methods", bench.methods,
                          "Methods to measure, comma-separated: bilinear, bilinear-flat, triangles, embree, embree-grid "

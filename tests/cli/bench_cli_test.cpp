@@ -78,7 +78,7 @@ std::vector<SvgLine> svgPolylines(const std::string& svg) {
 TEST_CASE("CLI: bench on a 65 x 65 grid reports every method on both cameras", "[cli][bench]") {
     TempDir dir("bench-cli");
     const std::string json = (dir.path() / "bench.json").string();
-    const auto r = runTerracast("bench --sizes 65 --threads 1 --json '" + json + "'");
+    const auto r = runTerracast("bench --sizes 65 --threads 1 --repeat 2 --json '" + json + "'");
     INFO(r.err);
     REQUIRE(r.exitCode == 0);
     for (const char* name : {"bilinear", "bilinear-flat", "triangles", "embree", "embree-grid", "synthetic-65"})
@@ -92,6 +92,8 @@ TEST_CASE("CLI: bench on a 65 x 65 grid reports every method on both cameras", "
     CHECK(doc["file_to_picture"].type == JsonValue::Type::Null);  // only with --file-to-picture
     REQUIRE(doc["threads"].array.size() == 1);
     CHECK(doc["threads"][0].number == 1);
+    CHECK(doc["repeat"].number == 2);
+    CHECK(r.out.find("fastest of 2 traces per pass") != std::string::npos);
     REQUIRE(doc["grids"].array.size() == 1);
     const JsonValue& grid = doc["grids"][0];
     CHECK(grid["dem"].string == "synthetic-65");
@@ -157,7 +159,7 @@ TEST_CASE("CLI: bench --methods measures the methods asked for, in report order,
           "[cli][bench]") {
     TempDir dir("bench-cli");
     const std::string json = (dir.path() / "methods.json").string();
-    const auto r = runTerracast("bench --sizes 17 --threads 1 --methods embree-grid,triangles --json '" + json + "'");
+    const auto r = runTerracast("bench --sizes 17 --threads 1 --repeat 1 --methods embree-grid,triangles --json '" + json + "'");
     INFO(r.err);
     REQUIRE(r.exitCode == 0);
     const JsonValue doc = parseJson(slurp(json));
@@ -175,7 +177,7 @@ TEST_CASE("CLI: bench skips grids over --max-memory and says what they need", "[
     TempDir dir("bench-cli");
     const std::string json = (dir.path() / "skipped.json").string();
     // 100 MiB holds neither one pass's buffers at 1024 x 768 nor the 32769^2 grid: nothing is made or traced.
-    const auto r = runTerracast("bench --sizes 65 --large --max-memory 100M --json '" + json + "'");
+    const auto r = runTerracast("bench --sizes 65 --repeat 1 --large --max-memory 100M --json '" + json + "'");
     INFO(r.err);
     REQUIRE(r.exitCode == 0);
     CHECK(r.out.find("synthetic-32769") != std::string::npos);
@@ -203,6 +205,7 @@ TEST_CASE("CLI: bench refuses bad options with one line and exit 2", "[cli][benc
         {"--sizes 65,abc" + out, "--sizes"},
         {"--sizes 131073" + out, "--sizes"},
         {"--threads -1" + out, "--threads"},
+        {"--repeat 0" + out, "--repeat"},
         {"--max-memory lots" + out, "--max-memory"},
         {"--real --data /no/such/folder" + out, "/no/such/folder"},
         {"--sizes 65 --json /no/such/folder/r.json", "/no/such/folder"},
@@ -226,7 +229,7 @@ TEST_CASE("CLI: bench --svg draws each method's rates on both cameras, ordered a
     TempDir dir("bench-cli");
     const std::string json = (dir.path() / "bench.json").string();
     const std::string svgPath = (dir.path() / "rates.svg").string();
-    const auto r = runTerracast("bench --sizes 9,17 --threads 1 --json '" + json + "' --svg '" + svgPath + "'");
+    const auto r = runTerracast("bench --sizes 9,17 --threads 1 --repeat 1 --json '" + json + "' --svg '" + svgPath + "'");
     INFO(r.err);
     REQUIRE(r.exitCode == 0);
     const std::string svg = slurp(svgPath);
@@ -291,7 +294,7 @@ TEST_CASE("CLI: bench --file-to-picture renders a PNG height map with bilinear a
     CommandResult r;
     {
         const TmpDirOverride tmp(scratch.string());
-        r = runTerracast("bench --sizes 129 --threads 2 --file-to-picture --json '" + json + "'");
+        r = runTerracast("bench --sizes 129 --threads 2 --repeat 1 --file-to-picture --json '" + json + "'");
     }
     INFO(r.err);
     REQUIRE(r.exitCode == 0);
