@@ -83,6 +83,10 @@ std::optional<Real> intersectBilinearCell(const CellCorners<Real>& h, const Cell
     const Real B = b * seg.du + c * seg.dv + d * (seg.u0 * seg.dv + seg.v0 * seg.du) - seg.dz;
     const Real C = seg.gEntry;
     if (C == Real(0)) return Real(0);
+    // The ray above the surface at both ends (the usual near miss): G can only come back up to zero inside
+    // when it is concave (A < 0) with its maximum inside the segment, where G' = 2 A s + B changes sign.
+    if (C < Real(0) && seg.gExit < Real(0) && !(A < Real(0) && B > Real(0) && B + Real(2) * A * seg.length < Real(0)))
+        return std::nullopt;
 
     Real r0 = std::numeric_limits<Real>::infinity(), r1 = r0;
     if (A == Real(0)) {
