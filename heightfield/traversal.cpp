@@ -358,8 +358,8 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     for (;;) {
         if (level > 0) {
             const int64_t bi = i >> level, bj = j >> level;
-            // The block's exit edges in the direction of travel (clipped to the grid) and their parameters.
-            // (A last, partial block's exit edge may lie beyond the grid; its stretch still ends at t1.)
+            // The block's exit edges in the direction of travel and their parameters. A last, partial block's
+            // edge may lie beyond the grid; the ray's stretch in it still ends at t1, inside the grid.
             const int64_t xEdge = (bi + exitOffX) << level;
             const int64_t yEdge = (bj + exitOffY) << level;
             const double txb = tAtX(xEdge), tyb = tAtY(yEdge);
