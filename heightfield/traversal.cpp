@@ -133,9 +133,16 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     if (dg.x == 0.0 && dg.y == 0.0 && dg.z == 0.0) return result;
     if (!std::isfinite(og.x + og.y + og.z + dg.x + dg.y + dg.z)) return result;
     // The direction's reciprocals, 0 along an axis the ray does not move along. A component so small that its
-    // reciprocal overflows (subnormal) counts as not moving too.
+    // reciprocal, or the product of the reciprocal with a coordinate the walk may meet (up to twice the grid's
+    // extent, for the edges of the last pyramid blocks), would overflow counts as not moving too: crossing one
+    // cell would take such a ray a parameter above DBL_MAX / (|o| + 2 cells + 2), and a boundary parameter
+    // formed from it could be inf - inf.
     const glm::dvec3 inv = 1.0 / dg;
-    const bool movesX = std::isfinite(inv.x), movesY = std::isfinite(inv.y), movesZ = std::isfinite(inv.z);
+    auto moves = [](double invD, double o, double cells) {
+        return std::isfinite((std::abs(o) + 2.0 * cells + 2.0) * invD);
+    };
+    const bool movesX = moves(inv.x, og.x, double(g.cellsX())), movesY = moves(inv.y, og.y, double(g.cellsY())),
+               movesZ = std::isfinite(inv.z);
     const double invX = movesX ? inv.x : 0.0, invY = movesY ? inv.y : 0.0, invZ = movesZ ? inv.z : 0.0;
     // Clips [t0, t1] to the slab lo <= o + t d <= hi, as clipToSlab does but with the reciprocal.
     auto clip = [](double o, bool moves, double invD, double lo, double hi, double& ta, double& tb) {
@@ -294,10 +301,12 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     const int levels = traversal == Traversal::Pyramid ? g.pyramidLevels() : 0;
     const HeightGrid::PyramidView pyramid = g.pyramidView();
     // The block test runs in code space: a block is passed when its code lies below the ray's lowest height over
-    // it, mapped to codes after lowering it by the margin, by one code step and by 2^-22 of the largest height
-    // magnitude. Conservative: those cover the float rounding of the decoded heights and of this arithmetic, so
-    // a block passing in code space passes the height test. The ray's code-space height is linear in t.
-    const double codeSlackM = margin + pyramid.scale + 0x1p-22 * (heightScale + pyramid.scale);
+    // it, mapped to codes after lowering it by the margin, by one code step, by 2^-22 of the largest height
+    // magnitude and by 2^-50 of the ray's own height magnitudes. Conservative: those cover the float rounding
+    // of the decoded heights, of this arithmetic and of the ray heights the cell test computes, so a block
+    // passing in code space passes the height test. The ray's code-space height is linear in t.
+    const double codeSlackM = margin + pyramid.scale + 0x1p-22 * (heightScale + pyramid.scale) +
+                              0x1p-50 * (std::abs(og.z) + std::abs(dg.z) * std::max(std::abs(t0), std::abs(t1)));
     const double codeZ0 = (og.z - codeSlackM) * pyramid.codesPerMetre - double(pyramid.offset);
     const double codeDz = dg.z * pyramid.codesPerMetre;
     const bool descending = dg.z < 0.0;

@@ -96,6 +96,35 @@ TEST_CASE("Extremes: axis-parallel rays (d.x = 0 and d.y = 0)", "[heightfield][e
     }
 }
 
+TEST_CASE("Extremes: direction components too small to step across a cell act as zero", "[heightfield][extremes]") {
+    // A component of 1e-305 is a normal double, but the boundary parameters it gives overflow; the walk must then
+    // treat the axis as parallel (and not form inf - inf), so the ray hits exactly where the axis-parallel one does.
+    const HeightGrid g = rough(65, 49, 7);
+    std::mt19937_64 rng(17);
+    std::uniform_real_distribution<double> U(-1.0, 1.0);
+    int hits = 0;
+    for (int k = 0; k < 2000; ++k) {
+        const glm::dvec3 o = randomPointAbove(g, rng, 300.0);
+        const double along = U(rng), down = -0.05 - std::abs(U(rng));
+        const double tiny = (k % 2 ? 1.0 : -1.0) * 1e-305;
+        const glm::dvec3 d0 = k % 4 < 2 ? glm::dvec3(along, 0.0, down) : glm::dvec3(0.0, along, down);
+        const glm::dvec3 d1 = k % 4 < 2 ? glm::dvec3(along, tiny, down) : glm::dvec3(tiny, along, down);
+        for (CellMethod m : kBilinearMethods) {
+            const auto a = intersect(g, Ray{o, d0}, {0.0, kInfinity}, m);
+            const auto b = intersect(g, Ray{o, d1}, {0.0, kInfinity}, m);
+            INFO("ray " << k << ", " << cellMethodName(m));
+            REQUIRE(a.has_value() == b.has_value());
+            if (!a) continue;
+            ++hits;
+            CHECK(b->t == a->t);
+            CHECK(b->cellX == a->cellX);
+            CHECK(b->cellY == a->cellY);
+            CHECK(occluded(g, Ray{o, d1}, {0.0, kInfinity}, m));
+        }
+    }
+    CHECK(hits > 1500);
+}
+
 TEST_CASE("Extremes: vertical rays up and down, and horizontal rays", "[heightfield][extremes]") {
     const HeightGrid g = rough(9, 7, 2);
     std::mt19937_64 rng(12);
