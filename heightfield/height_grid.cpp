@@ -186,8 +186,9 @@ void HeightGrid::buildPyramid() {
         pyramidScale_ = s;
         pyramidOffset_ = static_cast<int32_t>(int64_t(std::floor(lo / s)) + 32766);  // lo lands near -32766
     }
+    pyramidCodesPerMetre_ = 1.0 / pyramidScale_;
     auto decodeBound = [&](int32_t q) { return float(double(q + pyramidOffset_) * pyramidScale_); };
-    const double perMetre = 1.0 / pyramidScale_;  // only a first guess: the loops below settle the code
+    const double perMetre = pyramidCodesPerMetre_;  // only a first guess: the loops below settle the code
     auto encodeUp = [&](float z) {
         const double guess = std::ceil(double(z) * perMetre) - double(pyramidOffset_);
         auto q = static_cast<int32_t>(std::clamp(guess, double(kLowestCode + 1), double(kHighestCode)));

@@ -116,7 +116,7 @@ public:
     };
     PyramidView pyramidView() const {
         return {pyramidCodes_.data(), levelStart_.data(), levelBlocksX_.data(), pyramidOffset_, pyramidScale_,
-                1.0 / pyramidScale_};
+                pyramidCodesPerMetre_};
     }
 
 private:
@@ -153,6 +153,7 @@ private:
     std::vector<int64_t> levelBlocksX_;          // per level: blocks per row
     int32_t pyramidOffset_ = 0;
     double pyramidScale_ = 1.0;
+    double pyramidCodesPerMetre_ = 1.0;  // 1 / pyramidScale_
     double pyramidBuildSeconds_ = 0.0;
 };
 
