@@ -220,8 +220,9 @@ Lattice georeference(const std::string& path, GDALDataset& dataset, const DemLoa
 // when they are pixel-interleaved) before decoding it, so a damaged header declaring, say, 32768 x 32768 tiles on
 // a 20 x 20 raster would otherwise cost gigabytes before any read fails. Real files use strips no larger than the
 // raster and tiles of at most a few thousand samples a side.
-void checkBlockSize(const std::string& path, GDALDataset& dataset, GDALRasterBand& band, double maxBytes) {
+void checkBlockSize(const std::string& path, GDALDataset& dataset, int bandNumber, double maxBytes) {
     constexpr double kAlwaysAllowedBytes = 64.0 * 1024 * 1024;
+    GDALRasterBand& band = *dataset.GetRasterBand(bandNumber);
     int blockX = 0;
     int blockY = 0;
     band.GetBlockSize(&blockX, &blockY);
@@ -234,11 +235,16 @@ void checkBlockSize(const std::string& path, GDALDataset& dataset, GDALRasterBan
         static_cast<double>(dataset.GetRasterXSize()) * static_cast<double>(dataset.GetRasterYSize()) * sampleBytes;
     const double limit = maxBytes > 0.0 ? maxBytes : defaultMemoryLimitBytes();
     const double allowedBytes = std::min(limit, std::max(kAlwaysAllowedBytes, rasterBytes));
-    if (blockBytes > allowedBytes)
-        throw InputError(fmt::format("{}: band 1 of the {} x {} raster is stored in blocks of {} x {} samples "
-                                     "({:.2f} GiB each), expected blocks of at most {:.2f} GiB (damaged header?)",
-                                     path, dataset.GetRasterXSize(), dataset.GetRasterYSize(), blockX, blockY,
-                                     blockBytes / kGiB, allowedBytes / kGiB));
+    if (blockBytes <= allowedBytes) return;
+    auto size = [](double bytes) {
+        return bytes >= kGiB ? fmt::format("{:.2f} GiB", bytes / kGiB) : fmt::format("{:.1f} MiB", bytes / (kGiB / 1024));
+    };
+    const bool overLimit = limit < std::max(kAlwaysAllowedBytes, rasterBytes);
+    throw InputError(fmt::format("{}: band {} of the {} x {} raster is stored in blocks of {} x {} samples ({} each), "
+                                 "expected blocks of at most {} {}",
+                                 path, bandNumber, dataset.GetRasterXSize(), dataset.GetRasterYSize(), blockX, blockY,
+                                 size(blockBytes), size(allowedBytes),
+                                 overLimit ? "(the memory limit, --max-memory)" : "(damaged header?)"));
 }
 
 // Reports a non-finite or out-of-range height at raster (column, row).
@@ -281,7 +287,7 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, c
     const Lattice lattice = georeference(path, *dataset, options, dem.geo, dem.warnings);
 
     GDALRasterBand* band = dataset->GetRasterBand(1);
-    checkBlockSize(path, *dataset, *band, options.maxBytes);
+    checkBlockSize(path, *dataset, 1, options.maxBytes);
     const VerticalUnit unit = verticalUnit(path, band->GetUnitType() ? band->GetUnitType() : "");
     if (!unit.warning.empty()) dem.warnings.push_back(unit.warning);
     int hasScale = 0;

@@ -456,7 +456,12 @@ TEST_CASE("Unreadable inputs throw one-line InputErrors naming the file", "[load
         CHECK(loadDem(path).grid.at(3, 3) == 7.0f);
         REQUIRE(patchTileSize(path, 32768));
         CHECK_THAT(loadError(path), Catch::Contains("blocks of 32768 x 32768 samples (2.00 GiB each)") &&
-                                        Catch::Contains("20 x 20 raster"));
+                                        Catch::Contains("20 x 20 raster") && Catch::Contains("at most 64.0 MiB") &&
+                                        Catch::Contains("damaged header"));
+        // Under a memory limit below 64 MiB the limit is what the block is held against, and named.
+        DemLoadOptions tight;
+        tight.maxBytes = 16.0 * 1024 * 1024;
+        CHECK_THAT(loadError(path, tight), Catch::Contains("at most 16.0 MiB (the memory limit, --max-memory)"));
     }
     SECTION("raster too large to hold") {
         // A VRT declares any size without storing pixels.
