@@ -220,9 +220,8 @@ Lattice georeference(const std::string& path, GDALDataset& dataset, const DemLoa
 // when they are pixel-interleaved) before decoding it, so a damaged header declaring, say, 32768 x 32768 tiles on
 // a 20 x 20 raster would otherwise cost gigabytes before any read fails. Real files use strips no larger than the
 // raster and tiles of at most a few thousand samples a side.
-void checkBlockSize(const std::string& path, GDALDataset& dataset, int bandNumber, double maxBytes) {
+void checkBlockSize(const std::string& path, GDALDataset& dataset, GDALRasterBand& band, double maxBytes) {
     constexpr double kAlwaysAllowedBytes = 64.0 * 1024 * 1024;
-    GDALRasterBand& band = *dataset.GetRasterBand(bandNumber);
     int blockX = 0;
     int blockY = 0;
     band.GetBlockSize(&blockX, &blockY);
@@ -234,17 +233,17 @@ void checkBlockSize(const std::string& path, GDALDataset& dataset, int bandNumbe
     const double rasterBytes =
         static_cast<double>(dataset.GetRasterXSize()) * static_cast<double>(dataset.GetRasterYSize()) * sampleBytes;
     const double limit = maxBytes > 0.0 ? maxBytes : defaultMemoryLimitBytes();
-    const double allowedBytes = std::min(limit, std::max(kAlwaysAllowedBytes, rasterBytes));
+    const double plausibleBytes = std::max(kAlwaysAllowedBytes, rasterBytes);
+    const double allowedBytes = std::min(limit, plausibleBytes);
     if (blockBytes <= allowedBytes) return;
     auto size = [](double bytes) {
         return bytes >= kGiB ? fmt::format("{:.2f} GiB", bytes / kGiB) : fmt::format("{:.1f} MiB", bytes / (kGiB / 1024));
     };
-    const bool overLimit = limit < std::max(kAlwaysAllowedBytes, rasterBytes);
     throw InputError(fmt::format("{}: band {} of the {} x {} raster is stored in blocks of {} x {} samples ({} each), "
                                  "expected blocks of at most {} {}",
-                                 path, bandNumber, dataset.GetRasterXSize(), dataset.GetRasterYSize(), blockX, blockY,
+                                 path, band.GetBand(), dataset.GetRasterXSize(), dataset.GetRasterYSize(), blockX, blockY,
                                  size(blockBytes), size(allowedBytes),
-                                 overLimit ? "(the memory limit, --max-memory)" : "(damaged header?)"));
+                                 limit < plausibleBytes ? "(the memory limit, --max-memory)" : "(damaged header?)"));
 }
 
 // Reports a non-finite or out-of-range height at raster (column, row).
@@ -287,7 +286,7 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, c
     const Lattice lattice = georeference(path, *dataset, options, dem.geo, dem.warnings);
 
     GDALRasterBand* band = dataset->GetRasterBand(1);
-    checkBlockSize(path, *dataset, 1, options.maxBytes);
+    checkBlockSize(path, *dataset, *band, options.maxBytes);
     const VerticalUnit unit = verticalUnit(path, band->GetUnitType() ? band->GetUnitType() : "");
     if (!unit.warning.empty()) dem.warnings.push_back(unit.warning);
     int hasScale = 0;
