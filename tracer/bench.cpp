@@ -166,28 +166,23 @@ BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& s) {
                     rs.camera = benchCamera(grid, camera, aspect);
                     // Rates and hit distances only. On a shared machine a pass is slowed now and then by other
                     // work, so the fastest of the repetitions is kept, for every method alike. The first trace's
-                    // hit distances give the agreement and are let go before the repetitions.
+                    // hit distances give the agreement; each trace's buffers go before the next one.
                     BenchPass p;
                     p.camera = camera;
                     p.threads = threads;
-                    {
+                    for (int rep = 0; rep < std::max(1, s.repeat); ++rep) {
                         const MethodComparison m = traceSurface(grid, surface, rs, false);
                         p.primaryRays = m.primaryRays;
                         p.shadowRays = m.shadowRays;
-                        p.primaryRaysPerSecond = m.primaryRaysPerSecond;
-                        p.shadowRaysPerSecond = m.shadowRaysPerSecond;
-                        if (r.passes.empty()) {
+                        p.primaryRaysPerSecond = std::max(p.primaryRaysPerSecond, m.primaryRaysPerSecond);
+                        p.shadowRaysPerSecond = std::max(p.shadowRaysPerSecond, m.shadowRaysPerSecond);
+                        if (rep == 0 && r.passes.empty()) {
                             if (referenceT.empty()) referenceT = m.hitT;
                             int64_t agree = 0;
                             for (size_t k = 0; k < m.hitT.size(); ++k)
                                 agree += std::isnan(m.hitT[k]) == std::isnan(referenceT[k]);
                             r.hitAgreement = m.hitT.empty() ? 0.0 : double(agree) / double(m.hitT.size());
                         }
-                    }
-                    for (int rep = 1; rep < s.repeat; ++rep) {
-                        const MethodComparison again = traceSurface(grid, surface, rs, false);
-                        p.primaryRaysPerSecond = std::max(p.primaryRaysPerSecond, again.primaryRaysPerSecond);
-                        p.shadowRaysPerSecond = std::max(p.shadowRaysPerSecond, again.shadowRaysPerSecond);
                     }
                     r.passes.push_back(p);
                 }
