@@ -188,9 +188,9 @@ void HeightGrid::buildPyramid() {
     }
     pyramidCodesPerMetre_ = 1.0 / pyramidScale_;
     auto decodeBound = [&](int32_t q) { return float(double(q + pyramidOffset_) * pyramidScale_); };
-    const double perMetre = pyramidCodesPerMetre_;  // only a first guess: the loops below settle the code
     auto encodeUp = [&](float z) {
-        const double guess = std::ceil(double(z) * perMetre) - double(pyramidOffset_);
+        // Only a first guess: the loops below settle the code.
+        const double guess = std::ceil(double(z) * pyramidCodesPerMetre_) - double(pyramidOffset_);
         auto q = static_cast<int32_t>(std::clamp(guess, double(kLowestCode + 1), double(kHighestCode)));
         while (q < kHighestCode && decodeBound(q) < z) ++q;
         while (q > kLowestCode + 1 && decodeBound(q - 1) >= z) --q;
