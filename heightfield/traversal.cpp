@@ -6,6 +6,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <span>
 #include <type_traits>
 
 namespace terracast {
@@ -122,10 +124,11 @@ Real unitRoundoff() {
 }
 
 // True when the ray meets the surface in `interval`; the nearest such hit is written to `out` when given
-// (occlusion queries pass none and skip building it).
+// (occlusion queries pass none and skip building it). `freeUntil` is a ray parameter up to which the ray is
+// known to pass above every cell by more than the skip margin (see bundleFreeDistanceM), or -infinity.
 template <class Real, Shape shape, class Heights>
 bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval interval, bool anyHit,
-           TraceCounters* counters, Traversal traversal, HeightFieldHit* out) {
+           TraceCounters* counters, Traversal traversal, HeightFieldHit* out, double freeUntil) {
     bool result = false;
     if (interval.empty()) return result;
     const glm::dvec3 og{ray.origin.x * g.cellsPerMetreX(), ray.origin.y * g.cellsPerMetreY(), ray.origin.z};
@@ -364,6 +367,41 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     const bool fromOutside = og.z > zHi + zPad || og.x < 0.0 || og.y < 0.0 || og.x > double(cellsX) ||
                              og.y > double(cellsY);
     int level = fromOutside ? std::min(3, levels) : 0;
+    // A stretch known to be free is passed like a skipped block: the walk resumes at the last cell boundary
+    // within it, in the state the flat walk has just after crossing that boundary, and a few levels up.
+    if (freeUntil > t0 && levels > 0) {
+        if (freeUntil >= t1) return result;
+        // The last x (y) boundary whose parameter is at most freeUntil: the one at the point's coordinate,
+        // corrected by the boundary formula itself; -infinity when there is none inside the grid.
+        auto lastBoundary = [freeUntil](double o, double d, int64_t cells, int64_t step, auto tAt, int64_t& edge) {
+            const double p = std::clamp(o + freeUntil * d, 0.0, static_cast<double>(cells));
+            edge = static_cast<int64_t>(p) + (step < 0 && static_cast<double>(static_cast<int64_t>(p)) != p);
+            while (edge >= 0 && edge <= cells && tAt(edge) > freeUntil) edge -= step;
+            return edge >= 0 && edge <= cells ? tAt(edge) : -kInfinity;
+        };
+        int64_t xEdge = 0, yEdge = 0;
+        const double txb = movesX ? lastBoundary(ox, dg.x, cellsX, stepX, tAtX, xEdge) : -kInfinity;
+        const double tyb = movesY ? lastBoundary(oy, dg.y, cellsY, stepY, tAtY, yEdge) : -kInfinity;
+        const bool leavesX = txb >= tyb;
+        const double tb = leavesX ? txb : tyb;
+        if (tb > t0) {
+            if (leavesX) {
+                i = xEdge - 1 + exitOffX;
+                if (i < 0 || i >= cellsX) return result;
+                if (movesY) j = settle(j, oy, dg.y, cellsY, tb, stepY, false, exitY);
+                if (j < 0) return result;
+                entry = posX ? CellSide::XLow : CellSide::XHigh;
+            } else {
+                j = yEdge - 1 + exitOffY;
+                if (j < 0 || j >= cellsY) return result;
+                if (movesX) i = settle(i, ox, dg.x, cellsX, tb, stepX, true, exitX);
+                if (i < 0) return result;
+                entry = posY ? CellSide::YLow : CellSide::YHigh;
+            }
+            t = tb;
+            level = std::min(2, levels);
+        }
+    }
     for (;;) {
         if (level > 0) {
             const int64_t bi = i >> level, bj = j >> level;
@@ -438,29 +476,118 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
 
 template <class Real, Shape shape>
 bool traceStorage(const HeightGrid& g, const Ray& ray, Interval interval, bool anyHit, TraceCounters* counters,
-                  Traversal tr, HeightFieldHit* out) {
+                  Traversal tr, HeightFieldHit* out, double freeUntil) {
     if (const float* h = g.float32Heights())
-        return trace<Real, shape>(g, Float32Heights{h, g.width()}, ray, interval, anyHit, counters, tr, out);
+        return trace<Real, shape>(g, Float32Heights{h, g.width()}, ray, interval, anyHit, counters, tr, out,
+                                  freeUntil);
     if (g.codeScale() == 1.0)
         return trace<Real, shape>(g, Int16UnitHeights{g.int16Codes(), g.width(), g.codeOffset()}, ray, interval,
-                                  anyHit, counters, tr, out);
+                                  anyHit, counters, tr, out, freeUntil);
     return trace<Real, shape>(g, Int16Heights{g.int16Codes(), g.width(), g.codeOffset(), g.codeScale()}, ray,
-                              interval, anyHit, counters, tr, out);
+                              interval, anyHit, counters, tr, out, freeUntil);
 }
 
 bool dispatch(const HeightGrid& g, const Ray& ray, Interval interval, CellMethod method, bool anyHit,
-              TraceCounters* counters, Traversal tr, HeightFieldHit* out) {
+              TraceCounters* counters, Traversal tr, HeightFieldHit* out, double freeUntil = -kInfinity) {
     switch (method) {
-    case CellMethod::Bilinear: return traceStorage<float, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr, out);
+    case CellMethod::Bilinear:
+        return traceStorage<float, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr, out, freeUntil);
     case CellMethod::BilinearDouble:
-        return traceStorage<double, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr, out);
+        return traceStorage<double, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr, out, freeUntil);
     case CellMethod::Triangles:
-        return traceStorage<float, Shape::Triangles>(g, ray, interval, anyHit, counters, tr, out);
-    case CellMethod::Nearest: return traceStorage<float, Shape::Nearest>(g, ray, interval, anyHit, counters, tr, out);
+        return traceStorage<float, Shape::Triangles>(g, ray, interval, anyHit, counters, tr, out, freeUntil);
+    case CellMethod::Nearest:
+        return traceStorage<float, Shape::Nearest>(g, ray, interval, anyHit, counters, tr, out, freeUntil);
     case CellMethod::Reference:
-        return traceStorage<long double, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr, out);
+        return traceStorage<long double, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr, out, freeUntil);
     }
     return false;
+}
+
+// A horizontal distance R (metres) from `origin` such that every ray of `rays` (all leaving `origin`, none
+// vertical) passes above every cell, by more than the margin trace skips cells with, at each point whose
+// horizontal distance from the origin is below R. Proved with the pyramid on whole stretches [r, r + step) at
+// once: over such a stretch no ray lies lower than origin.z + sMin * r or origin.z + sMin * (r + step), sMin
+// being the bundle's lowest slope (rise per horizontal metre), and every ray's footprint lies in the box
+// that the extreme unit horizontal directions span between the two distances. The stretch is proved when the
+// blocks covering that box all lie below that height; the step doubles after a proof and halves after a
+// failure, down to one cell.
+double bundleFreeDistanceM(const HeightGrid& g, const glm::dvec3& origin, std::span<const Ray> rays) {
+    const int levels = g.pyramidLevels();
+    if (levels == 0 || rays.empty()) return 0.0;
+    double sMin = kInfinity;
+    glm::dvec2 uLo{kInfinity}, uHi{-kInfinity};
+    for (const Ray& r : rays) {
+        const double h = std::sqrt(r.dir.x * r.dir.x + r.dir.y * r.dir.y);
+        const glm::dvec2 u{r.dir.x / h, r.dir.y / h};
+        sMin = std::min(sMin, r.dir.z / h);
+        uLo = glm::min(uLo, u);
+        uHi = glm::max(uHi, u);
+    }
+    if (!std::isfinite(sMin + uLo.x + uLo.y + uHi.x + uHi.y)) return 0.0;
+
+    // The slack covers, with room to spare, everything trace's own cell and block tests allow for: its skip
+    // margin at float precision (the widest of the methods) or the grazing tolerance, one pyramid code step,
+    // the rounding of decoded heights and that of the rays' heights (added per stretch below).
+    const double heightScale = std::max(std::abs(g.minHeightM()), std::abs(g.maxHeightM()));
+    const double floatEps = double(std::numeric_limits<float>::epsilon());
+    const double margin = std::max(8.0 * floatEps * (heightScale + std::abs(origin.z)) + 1e-30, grazingToleranceM(g));
+    const HeightGrid::PyramidView pyramid = g.pyramidView();
+    const double slack = 2.0 * margin + pyramid.scale + 0x1p-20 * (heightScale + pyramid.scale);
+
+    const double cellM = std::min(g.cellSizeXM(), g.cellSizeYM());
+    const double extentX = double(g.cellsX()) * g.cellSizeXM(), extentY = double(g.cellsY()) * g.cellSizeYM();
+    const double farX = std::max(std::abs(origin.x), std::abs(origin.x - extentX));
+    const double farY = std::max(std::abs(origin.y), std::abs(origin.y - extentY));
+    const double rEnd = std::hypot(farX, farY) + 2.0 * cellM;
+    const int64_t cellsX = g.cellsX(), cellsY = g.cellsY();
+
+    // True when every block covering the cells within one cell of the box [lo, hi] (metres) lies below zLimit.
+    auto blocksBelow = [&](glm::dvec2 lo, glm::dvec2 hi, double zLimit) {
+        auto cellRange = [](double a, double b, double perMetre, int64_t cells, int64_t& c0, int64_t& c1) {
+            const double x0 = std::max(a * perMetre - 1.0, 0.0), x1 = std::min(b * perMetre + 1.0, double(cells - 1));
+            if (!(x0 <= x1)) return false;
+            c0 = static_cast<int64_t>(x0);
+            c1 = static_cast<int64_t>(x1);
+            return true;
+        };
+        int64_t cx0 = 0, cx1 = 0, cy0 = 0, cy1 = 0;
+        if (!cellRange(lo.x, hi.x, g.cellsPerMetreX(), cellsX, cx0, cx1) ||
+            !cellRange(lo.y, hi.y, g.cellsPerMetreY(), cellsY, cy0, cy1))
+            return true;  // no cell under the box
+        int k = 1;
+        while (k < levels && (((cx1 >> k) - (cx0 >> k)) > 1 || ((cy1 >> k) - (cy0 >> k)) > 1)) ++k;
+        for (int64_t bj = cy0 >> k; bj <= (cy1 >> k); ++bj)
+            for (int64_t bi = cx0 >> k; bi <= (cx1 >> k); ++bi)
+                if (!(pyramid.blockMaxM(k, bi, bj) < zLimit)) return false;
+        return true;
+    };
+
+    // Nothing is met before the footprint reaches the grid's rectangle, nor while every ray is still above
+    // the highest block; the proof starts there (both distances are lowered past their rounding).
+    const glm::dvec2 o{origin.x, origin.y};
+    const double outsideX = std::max({0.0, -origin.x, origin.x - extentX});
+    const double outsideY = std::max({0.0, -origin.y, origin.y - extentY});
+    double r = std::max(0.0, std::sqrt(outsideX * outsideX + outsideY * outsideY) - 2.0 * cellM);
+    const double topClearance = origin.z - (double(g.maxHeightM()) + 2.0 * slack) - 0x1p-40 * std::abs(origin.z);
+    if (sMin < 0.0 && topClearance > 0.0) r = std::max(r, topClearance / -sMin * (1.0 - 0x1p-30));
+    double step = 16.0 * cellM;
+    for (int guard = 0; r < rEnd && guard < 256; ++guard) {
+        const double rb = r + step;
+        const double zLow = origin.z + std::min(sMin * r, sMin * rb);
+        const double zLimit = zLow - slack - 0x1p-40 * (std::abs(origin.z) + std::abs(sMin) * rb);
+        const bool free = zLimit > g.maxHeightM() ||
+                          blocksBelow(o + glm::min(r * uLo, rb * uLo), o + glm::max(r * uHi, rb * uHi), zLimit);
+        if (free) {
+            r = rb;
+            step *= 2.0;
+        } else if (step <= cellM) {
+            break;
+        } else {
+            step *= 0.5;
+        }
+    }
+    return r;
 }
 
 }  // namespace
@@ -493,6 +620,29 @@ std::optional<HeightFieldHit> intersect(const HeightGrid& grid, const Ray& ray, 
 bool occluded(const HeightGrid& grid, const Ray& ray, Interval interval, CellMethod method, TraceCounters* counters,
               Traversal traversal) {
     return dispatch(grid, ray, interval, method, true, counters, traversal, nullptr);
+}
+
+static_assert(std::is_trivially_destructible_v<std::optional<HeightFieldHit>>);
+
+void intersectBundle(const HeightGrid& grid, std::span<const Ray> rays, Interval interval, CellMethod method,
+                     std::span<std::optional<HeightFieldHit>> hits, TraceCounters* counters, Traversal traversal) {
+    const size_t n = std::min(rays.size(), hits.size());
+    if (n == 0) return;
+    const glm::dvec3 origin = rays[0].origin;
+    bool shared = traversal == Traversal::Pyramid && n > 1;
+    for (size_t k = 0; shared && k < n; ++k)
+        shared = rays[k].origin == origin && (rays[k].dir.x != 0.0 || rays[k].dir.y != 0.0);
+    const double freeM = shared ? bundleFreeDistanceM(grid, origin, rays.first(n)) : 0.0;
+    for (size_t k = 0; k < n; ++k) {
+        const glm::dvec3& d = rays[k].dir;
+        // The parameter where ray k reaches the horizontal distance freeM, lowered past its rounding.
+        const double freeUntil = freeM > 0.0 ? freeM / std::sqrt(d.x * d.x + d.y * d.y) * (1.0 - 0x1p-40) : -kInfinity;
+        // Constructed in place (optional<HeightFieldHit> is trivially destructible), so storing the hit does
+        // not first branch on whatever the slot held.
+        std::construct_at(&hits[k], std::in_place);
+        if (!dispatch(grid, rays[k], interval, method, false, counters, traversal, &*hits[k], freeUntil))
+            hits[k].reset();
+    }
 }
 
 glm::dvec3 spawnOrigin(const HeightFieldHit& hit, const glm::dvec3& dir) {

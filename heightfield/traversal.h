@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -68,6 +69,16 @@ std::optional<HeightFieldHit> intersect(const HeightGrid& grid, const Ray& ray, 
 
 bool occluded(const HeightGrid& grid, const Ray& ray, Interval interval, CellMethod method,
               TraceCounters* counters = nullptr, Traversal traversal = Traversal::Pyramid);
+
+// The nearest hits of a bundle of rays leaving one origin, such as a tile of a pinhole camera's pixels:
+// hits[k] is exactly what intersect(grid, rays[k], interval, method, counters, traversal) returns. For the
+// whole bundle at once, the pyramid first proves how far from the origin (horizontally) every ray stays above
+// the terrain; each ray's walk then starts at its last cell boundary within that distance. Compact bundles (a
+// few pixels across) gain most. When the rays do not all share the first one's origin, or one is vertical, or
+// the traversal is flat, each is traced on its own. `counters` add up over the bundle.
+void intersectBundle(const HeightGrid& grid, std::span<const Ray> rays, Interval interval, CellMethod method,
+                     std::span<std::optional<HeightFieldHit>> hits, TraceCounters* counters = nullptr,
+                     Traversal traversal = Traversal::Pyramid);
 
 // The origin of a ray leaving a hit point in direction `dir`: the point pushed along the geometric normal,
 // to the side `dir` goes, by the hit's error bound, so that the new ray cannot re-hit the surface it starts

@@ -31,19 +31,17 @@ MethodComparison traceSurface(const HeightGrid& grid, const TerrainSurface& surf
     m.memoryBytes = surface.memoryBytes();
     const int w = s.width, h = s.height;
     const size_t n = size_t(w) * size_t(h);
-    const double aspect = double(w) / double(h);
     std::vector<std::optional<HeightFieldHit>> hits(n);
     std::vector<glm::dvec3> dirs(n);
 
     auto start = std::chrono::steady_clock::now();
     parallelForTiles(w, h, s.tileSize, s.threads, [&](int x0, int y0, int x1, int y1) {
-        for (int y = y0; y < y1; ++y)
-            for (int x = x0; x < x1; ++x) {
-                const Ray ray = s.camera.generate((x + 0.5) / w, (y + 0.5) / h, aspect);
-                const size_t k = size_t(y) * size_t(w) + size_t(x);
-                dirs[k] = ray.dir;
-                hits[k] = surface.intersect(ray, {0.0, kInfinity});
-            }
+        traceCameraRays(surface, s.camera, w, h, x0, y0, x1, y1,
+                        [&](int x, int y, const Ray& ray, const std::optional<HeightFieldHit>& hit) {
+                            const size_t k = size_t(y) * size_t(w) + size_t(x);
+                            dirs[k] = ray.dir;
+                            hits[k] = hit;
+                        });
     });
     const double primarySeconds = secondsSince(start);
     m.primaryRays = int64_t(n);

@@ -66,6 +66,12 @@ std::optional<HeightFieldHit> TerrainSurface::intersect(const Ray& ray, Interval
     return terracast::intersect(grid_, ray, interval, cell_, nullptr, traversal_);
 }
 
+void TerrainSurface::intersectBundle(std::span<const Ray> rays, Interval interval,
+                                     std::span<std::optional<HeightFieldHit>> hits) const {
+    if (!embree_) return terracast::intersectBundle(grid_, rays, interval, cell_, hits, nullptr, traversal_);
+    for (size_t k = 0; k < std::min(rays.size(), hits.size()); ++k) hits[k] = embree_->intersect(rays[k], interval);
+}
+
 bool TerrainSurface::occluded(const Ray& ray, Interval interval) const {
     if (embree_) return embree_->occluded(ray, interval);
     return terracast::occluded(grid_, ray, interval, cell_, nullptr, traversal_);

@@ -7,6 +7,7 @@
 
 #include <memory>
 #include <optional>
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -41,6 +42,10 @@ public:
 
     std::optional<HeightFieldHit> intersect(const Ray& ray, Interval interval) const;
     bool occluded(const Ray& ray, Interval interval) const;
+    // hits[k] = intersect(rays[k], interval), for rays sharing an origin: the direct tracer proves a free
+    // stretch for the whole bundle first (see terracast::intersectBundle); Embree traces them one by one.
+    void intersectBundle(std::span<const Ray> rays, Interval interval,
+                         std::span<std::optional<HeightFieldHit>> hits) const;
 
     SurfaceMethod method() const { return method_; }
     Traversal traversal() const { return traversal_; }

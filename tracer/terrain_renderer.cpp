@@ -133,7 +133,6 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
                    RenderStats* stats) {
     const auto start = std::chrono::steady_clock::now();
     Film film(s.width, s.height);
-    const double aspect = double(s.width) / double(s.height);
     const TerrainShader shader(grid, surface, s);
 
     std::atomic<int64_t> primary{0}, shadow{0}, sky{0}, hits{0}, pixelsDone{0};
@@ -142,19 +141,16 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
 
     parallelForTiles(s.width, s.height, s.tileSize, s.threads, [&](int x0, int y0, int x1, int y1) {
         int64_t nPrimary = 0, nShadow = 0, nSky = 0, nHits = 0;
-        for (int y = y0; y < y1; ++y) {
-            for (int x = x0; x < x1; ++x) {
-                const Ray ray = s.camera.generate((x + 0.5) / s.width, (y + 0.5) / s.height, aspect);
-                ++nPrimary;
-                const auto hit = surface.intersect(ray, {0.0, kInfinity});
-                if (!hit) {
-                    film.set(x, y, shader.miss(ray.dir));
-                    continue;
-                }
-                ++nHits;
-                film.set(x, y, shader.hit(*hit, ray, x, y, nShadow, nSky));
-            }
-        }
+        traceCameraRays(surface, s.camera, s.width, s.height, x0, y0, x1, y1,
+                        [&](int x, int y, const Ray& ray, const std::optional<HeightFieldHit>& hit) {
+                            ++nPrimary;
+                            if (!hit) {
+                                film.set(x, y, shader.miss(ray.dir));
+                                return;
+                            }
+                            ++nHits;
+                            film.set(x, y, shader.hit(*hit, ray, x, y, nShadow, nSky));
+                        });
         primary += nPrimary;
         shadow += nShadow;
         sky += nSky;

@@ -10,6 +10,8 @@
 #include "tracer/scene_description.h"
 #include "tracer/surface.h"
 
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <functional>
 
@@ -49,6 +51,30 @@ struct RenderStats {
     int64_t hits = 0;
     double seconds = 0.0;
 };
+
+// Traces the camera rays of the pixels [x0, x1) x [y0, y1) of a width x height film through `surface`, in
+// bundles of up to 8 x 8 pixels (see TerrainSurface::intersectBundle), and calls pixel(x, y, ray, hit) for
+// each pixel, a bundle at a time.
+template <class Pixel>
+void traceCameraRays(const TerrainSurface& surface, const PinholeCamera& camera, int width, int height, int x0,
+                     int y0, int x1, int y1, Pixel&& pixel) {
+    constexpr int kBundle = 8;
+    const double aspect = double(width) / double(height);
+    std::array<Ray, kBundle * kBundle> rays;
+    std::array<std::optional<HeightFieldHit>, kBundle * kBundle> hits;
+    for (int by = y0; by < y1; by += kBundle)
+        for (int bx = x0; bx < x1; bx += kBundle) {
+            const int ex = std::min(bx + kBundle, x1), ey = std::min(by + kBundle, y1);
+            size_t n = 0;
+            for (int y = by; y < ey; ++y)
+                for (int x = bx; x < ex; ++x) rays[n++] = camera.generate((x + 0.5) / width, (y + 0.5) / height, aspect);
+            surface.intersectBundle(std::span<const Ray>(rays.data(), n), {0.0, kInfinity},
+                                    std::span<std::optional<HeightFieldHit>>(hits.data(), n));
+            n = 0;
+            for (int y = by; y < ey; ++y)
+                for (int x = bx; x < ex; ++x, ++n) pixel(x, y, rays[n], hits[n]);
+        }
+}
 
 // Renders `grid`, traced through `surface`, into a linear RGB film.
 Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const TerrainRenderSettings& settings,

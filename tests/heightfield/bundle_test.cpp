@@ -1,0 +1,239 @@
+// Bundles of rays from one origin (a camera's tile of pixels): intersectBundle returns exactly the hits of
+// tracing each ray on its own, and the free stretch it proves for the bundle spares work.
+#include "heightfield/fractal_terrain.h"
+#include "heightfield/traversal.h"
+#include "loaders/dem_loader.h"
+#include "support/brute_force.h"
+
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <random>
+
+using namespace terracast;
+using namespace terracast::testing;
+
+namespace {
+
+constexpr int kSide = 8;  // rays per bundle side
+
+struct Work {
+    TraceCounters single;  // summed over the rays traced one by one
+    TraceCounters bundle;  // summed over the same rays traced as bundles
+    int64_t rays = 0;
+    int64_t hits = 0;
+    int64_t ambiguous = 0;  // bundles with a ray flagged ambiguous
+};
+
+// An 8 x 8 fan of unit directions around `centre`, `spreadDeg` across (a tile of a pinhole camera's pixels).
+std::array<Ray, kSide * kSide> fan(const glm::dvec3& origin, const glm::dvec3& centre, double spreadDeg) {
+    const glm::dvec3 f = glm::normalize(centre);
+    const glm::dvec3 side = std::abs(f.z) < 0.999 ? glm::normalize(glm::cross(f, glm::dvec3(0, 0, 1)))
+                                                   : glm::dvec3(1, 0, 0);
+    const glm::dvec3 up = glm::cross(side, f);
+    const double half = std::tan(0.5 * spreadDeg * M_PI / 180.0);
+    std::array<Ray, kSide * kSide> rays;
+    for (int y = 0; y < kSide; ++y)
+        for (int x = 0; x < kSide; ++x) {
+            const double sx = half * (2.0 * (x + 0.5) / kSide - 1.0), sy = half * (2.0 * (y + 0.5) / kSide - 1.0);
+            rays[size_t(y * kSide + x)] = Ray{origin, glm::normalize(f + sx * side + sy * up)};
+        }
+    return rays;
+}
+
+// Traces `rays` as one bundle (with and without counters) and one by one, with every direct method, and
+// requires the same hit, bit for bit, from all of them.
+void requireSameAsSingle(const HeightGrid& g, std::span<const Ray> rays, Interval interval, Work& work) {
+    std::vector<std::optional<HeightFieldHit>> bundle(rays.size()), counted(rays.size());
+    for (CellMethod m : {CellMethod::Bilinear, CellMethod::BilinearDouble, CellMethod::Triangles, CellMethod::Nearest}) {
+        intersectBundle(g, rays, interval, m, bundle);
+        TraceCounters bundleCounters;
+        intersectBundle(g, rays, interval, m, counted, &bundleCounters);
+        bool anyAmbiguous = false;
+        for (size_t k = 0; k < rays.size(); ++k) {
+            TraceCounters singleCounters;
+            const auto single = intersect(g, rays[k], interval, m);
+            const auto singleCounted = intersect(g, rays[k], interval, m, &singleCounters);
+            anyAmbiguous = anyAmbiguous || singleCounters.ambiguous;
+            if (m == CellMethod::Bilinear) {
+                work.single.blocksSkipped += singleCounters.blocksSkipped;
+                work.single.cellsVisited += singleCounters.cellsVisited;
+                ++work.rays;
+                work.hits += single.has_value();
+            }
+            INFO("ray " << k << " of the bundle, method " << cellMethodName(m));
+            REQUIRE(bundle[k].has_value() == single.has_value());
+            REQUIRE(counted[k].has_value() == singleCounted.has_value());
+            if (single) {
+                REQUIRE(bundle[k]->t == single->t);
+                REQUIRE(bundle[k]->cellX == single->cellX);
+                REQUIRE(bundle[k]->cellY == single->cellY);
+                REQUIRE(bundle[k]->u == single->u);
+                REQUIRE(bundle[k]->v == single->v);
+                REQUIRE(bundle[k]->normal == single->normal);
+                REQUIRE(counted[k]->t == singleCounted->t);
+            }
+        }
+        // A graze the single rays flag lies outside the proved stretch, so the bundle flags it too.
+        REQUIRE(bundleCounters.ambiguous == anyAmbiguous);
+        if (m == CellMethod::Bilinear) {
+            work.ambiguous += anyAmbiguous;
+            work.bundle.blocksSkipped += bundleCounters.blocksSkipped;
+            work.bundle.cellsVisited += bundleCounters.cellsVisited;
+        }
+    }
+}
+
+// Bundles from seeded cameras of every kind over `g`: high above looking down at any pitch, outside an edge
+// looking in, grazing just above the highest point (some rays rising), far away (1000 grid widths) looking
+// along the surface, and inside the relief (some bundles starting below the surface).
+Work requireSameBundleHits(const HeightGrid& g, int bundles, uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    const double relief = double(g.maxHeightM()) - g.minHeightM();
+    const double ex = g.extentXM(), ey = g.extentYM(), span = std::max(ex, ey);
+    // The highest valid vertex, for cameras that graze it.
+    glm::dvec2 peak{0.0};
+    for (int64_t j = 0; j < g.height(); ++j)
+        for (int64_t i = 0; i < g.width(); ++i)
+            if (g.vertexValid(i, j) && g.at(i, j) == g.maxHeightM())
+                peak = {double(i) * g.cellSizeXM(), double(j) * g.cellSizeYM()};
+    Work work;
+    for (int b = 0; b < bundles; ++b) {
+        const double az = 2.0 * M_PI * U(rng);
+        const glm::dvec3 inside{ex * U(rng), ey * U(rng), g.minHeightM() + relief * U(rng)};
+        glm::dvec3 origin, centre;
+        double spread = 0.2 + 3.0 * U(rng);
+        switch (b % 5) {
+        case 0: {  // above, looking down
+            const double el = (5.0 + 84.0 * U(rng)) * M_PI / 180.0;
+            origin = {inside.x, inside.y, g.maxHeightM() + (0.05 + U(rng)) * (relief + 50.0)};
+            centre = {std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), -std::sin(el)};
+            break;
+        }
+        case 1: {  // outside, looking at a point of the grid
+            origin = {ex * 0.5 - span * std::cos(az), ey * 0.5 - span * std::sin(az), g.maxHeightM() + relief * U(rng)};
+            centre = glm::dvec3(ex * U(rng), ey * U(rng), g.minHeightM()) - origin;
+            break;
+        }
+        case 2: {  // grazing: just above the highest level, every other one over the peak by half the graze
+                   // tolerance (the single rays flag those as ambiguous)
+            const double el = (U(rng) - 0.7) * 4.0 * M_PI / 180.0;
+            if (b % 10 == 2)
+                origin = {peak.x, peak.y, g.maxHeightM() + 0.5 * grazingToleranceM(g)};
+            else
+                origin = {inside.x, inside.y, g.maxHeightM() + 1e-3 * (relief + 1.0)};
+            centre = {std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), std::sin(el)};
+            spread = 0.05 + 0.5 * U(rng);
+            break;
+        }
+        case 3: {  // far away, along the surface towards the grid
+            origin = {ex * 0.5 - 1000.0 * span * std::cos(az), ey * 0.5 - 1000.0 * span * std::sin(az),
+                      g.maxHeightM() + relief * U(rng)};
+            centre = glm::dvec3(ex * U(rng), ey * U(rng), g.minHeightM() + relief * U(rng)) - origin;
+            spread = 0.01 * U(rng);
+            break;
+        }
+        default: {  // inside the relief, any direction
+            origin = inside;
+            centre = glm::dvec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.7);
+            break;
+        }
+        }
+        const auto rays = fan(origin, centre, spread);
+        requireSameAsSingle(g, rays, {0.0, kInfinity}, work);
+    }
+    return work;
+}
+
+LoadedDem sample(const std::string& name, DemLoadOptions o = {}) {
+    return loadDem(std::string(TERRACAST_SOURCE_DIR) + "/data-samples/" + name, o);
+}
+
+}  // namespace
+
+TEST_CASE("Ray bundles get exactly the hits of single rays on real DEMs, with less work", "[heightfield][bundle]") {
+    DemLoadOptions png;
+    png.imageCellSizeM = 160.0;
+    png.imageHeightScale = 0.1;
+    for (const auto& [name, options] : std::vector<std::pair<std::string, DemLoadOptions>>{
+             {"usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif", {}},
+             {"srtm3-n43e007-nice-maritime-alps-coast-geographic-int16.tif", {}},
+             {"puget-sound-usgs-1025x1025-16bit-heightmap.png", png},
+             {"landfire-storm-lake-mt-utm12n-int16-small-nodata.tif", {}},
+             {"N44W072.srtm3-white-mountains-nh.hgt", {}}}) {
+        INFO(name);
+        const HeightGrid g = sample(name, options).grid;
+        const Work w = requireSameBundleHits(g, 150, 21);
+        CHECK(w.hits > w.rays / 4);
+        CHECK(w.ambiguous > 0);  // the near-peak grazing bundles did meet the tolerance
+        // The bundle's free stretch replaces the blocks each ray would skip on its way down to the relief.
+        CHECK(w.bundle.blocksSkipped < w.single.blocksSkipped * 3 / 4);
+    }
+}
+
+TEST_CASE("Ray bundles get exactly the hits of single rays at the extremes", "[heightfield][bundle]") {
+    // Flat, planar, strongly twisted, tall with millimetre relief, thin strips, holes, and float fractal terrain.
+    requireSameBundleHits(HeightGrid(33, 33, 10.0, 10.0, std::vector<float>(33 * 33, 250.0f)), 60, 31);
+    std::vector<float> plane(64 * 48), twist(64 * 48);
+    for (int j = 0; j < 48; ++j)
+        for (int i = 0; i < 64; ++i) {
+            plane[size_t(j * 64 + i)] = float(300.0 + 5.0 * i - 2.5 * j);
+            twist[size_t(j * 64 + i)] = float((i + j) % 2 ? 200.0 : -200.0);
+        }
+    requireSameBundleHits(HeightGrid(64, 48, 10.0, 10.0, plane), 60, 32);
+    requireSameBundleHits(HeightGrid(64, 48, 10.0, 10.0, twist), 60, 33);
+    requireSameBundleHits(randomGrid(65, 65, 30.0, 30.0, 8000.0f, 8000.01f, 9), 60, 34);
+    requireSameBundleHits(randomGrid(2, 300, 5.0, 5.0, 0.0f, 100.0f, 10), 60, 35);
+    requireSameBundleHits(randomGrid(300, 2, 5.0, 5.0, 0.0f, 100.0f, 11), 60, 36);
+    std::vector<float> z(100 * 100);
+    std::vector<uint8_t> valid(100 * 100, 1);
+    std::mt19937_64 rng(12);
+    for (auto& v : z) v = float(rng() % 1000);
+    for (int k = 0; k < 600; ++k) valid[size_t(rng() % valid.size())] = 0;
+    requireSameBundleHits(HeightGrid(100, 100, 20.0, 20.0, z, valid), 60, 37);
+    FractalTerrainOptions fractal;
+    fractal.size = 257;
+    const HeightGrid terrain = fractalTerrain(fractal);
+    REQUIRE(terrain.storage() == HeightStorage::Float32);
+    const Work w = requireSameBundleHits(terrain, 200, 38);
+    CHECK(w.bundle.blocksSkipped < w.single.blocksSkipped * 3 / 4);
+}
+
+TEST_CASE("Ray bundles that cannot share a proof are traced ray by ray", "[heightfield][bundle]") {
+    const HeightGrid g = randomGrid(65, 65, 30.0, 30.0, 0.0f, 500.0f, 40);
+    Work work;
+    auto rays = fan({-100.0, -100.0, 900.0}, {1.0, 1.0, -0.6}, 2.0);
+    // One origin moved by a metre: no shared origin.
+    auto moved = rays;
+    moved[17].origin.x += 1.0;
+    requireSameAsSingle(g, moved, {0.0, kInfinity}, work);
+    // A vertical ray among them: no horizontal distance to bound.
+    auto vertical = rays;
+    vertical[5].dir = {0.0, 0.0, -1.0};
+    requireSameAsSingle(g, vertical, {0.0, kInfinity}, work);
+    // From a grid vertex along directions through vertices (1:1, 1:2, 2:1 steps): x and y boundaries tie
+    // all along, so the walk resumes after a corner.
+    std::array<Ray, 9> diagonal;
+    for (int k = 0; k < 9; ++k) {
+        const glm::dvec3 d{1.0 + k % 3 / 2 + (k == 4), 1.0 + (k % 3 == 1), -0.05 * (1 + k / 3)};
+        diagonal[size_t(k)] = Ray{{30.0 * 3, 30.0 * 5, 520.0}, d};
+    }
+    requireSameAsSingle(g, diagonal, {0.0, kInfinity}, work);
+    // A bounded interval that starts and ends inside the relief, and one ray alone.
+    requireSameAsSingle(g, rays, {600.0, 1500.0}, work);
+    requireSameAsSingle(g, std::span<const Ray>(rays.data(), 1), {0.0, kInfinity}, work);
+    CHECK(work.hits > 0);
+    // The flat walk never takes the bundle's shortcut: it is the reference the pyramid is compared with.
+    std::vector<std::optional<HeightFieldHit>> flat(rays.size());
+    TraceCounters flatCounters, singleCounters;
+    intersectBundle(g, rays, {0.0, kInfinity}, CellMethod::Bilinear, flat, &flatCounters, Traversal::Flat);
+    for (size_t k = 0; k < rays.size(); ++k) {
+        const auto single = intersect(g, rays[k], {0.0, kInfinity}, CellMethod::Bilinear, &singleCounters,
+                                      Traversal::Flat);
+        REQUIRE(flat[k].has_value() == single.has_value());
+        if (single) REQUIRE(flat[k]->t == single->t);
+    }
+    CHECK(flatCounters.cellsVisited == singleCounters.cellsVisited);
+    CHECK(flatCounters.blocksSkipped == 0);
+}
