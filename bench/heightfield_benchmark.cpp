@@ -1,14 +1,19 @@
 // Costs of the height-field core: each cell intersector on random cells and segments, one step of the DDA walk,
-// and whole rays through the maximum pyramid against the flat walk on a fractal grid. Run as
-//   build/bench/terracast-microbench --benchmark_filter=Cell   (or Dda, Pyramid)
+// whole rays through the maximum pyramid against the flat walk on a fractal grid, and camera rays in bundles
+// against ray by ray. Run as
+//   build/bench/terracast-microbench --benchmark_filter=Cell   (or Dda, Pyramid, CameraBundle)
 #include "heightfield/cell_intersectors.h"
 #include "heightfield/fractal_terrain.h"
 #include "heightfield/traversal.h"
+#include "tracer/bench.h"
 
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <optional>
 #include <random>
+#include <span>
+#include <string>
 #include <vector>
 
 using namespace terracast;
@@ -163,5 +168,44 @@ void BM_PyramidDescent(benchmark::State& state) {
     state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_PyramidDescent)->Arg(0)->Arg(1);
+
+// The camera rays of `terracast bench` on its 2049 x 2049 fractal grid (1024 x 768 pixels, corner camera for
+// the first argument 0, grazing camera for 1), one 8 x 8 tile of pixels per iteration: traced as one bundle
+// through intersectBundle (second argument 1) or ray by ray through intersect (0). Same rays, same hits;
+// items are rays.
+void BM_CameraBundle(benchmark::State& state) {
+    static const HeightGrid grid = [] {
+        FractalTerrainOptions o;
+        o.size = 2049;
+        return fractalTerrain(o);
+    }();
+    constexpr int kWidth = 1024, kHeight = 768, kSide = 8, kBundle = kSide * kSide;
+    const PinholeCamera camera =
+        benchCamera(grid, state.range(0) == 0 ? BenchCamera::Corner : BenchCamera::Grazing, double(kWidth) / kHeight);
+    const bool bundled = state.range(1) == 1;
+    std::vector<Ray> rays;  // tile after tile
+    for (int ty = 0; ty < kHeight; ty += kSide)
+        for (int tx = 0; tx < kWidth; tx += kSide)
+            for (int y = ty; y < ty + kSide; ++y)
+                for (int x = tx; x < tx + kSide; ++x)
+                    rays.push_back(camera.generate((x + 0.5) / kWidth, (y + 0.5) / kHeight, double(kWidth) / kHeight));
+    std::vector<std::optional<HeightFieldHit>> hits(kBundle);
+    const size_t tiles = rays.size() / kBundle;
+    size_t k = 0;
+    for (auto _ : state) {
+        const std::span<const Ray> tile(rays.data() + k * kBundle, kBundle);
+        if (bundled) {
+            intersectBundle(grid, tile, {0.0, kInfinity}, CellMethod::Bilinear, hits);
+        } else {
+            for (size_t r = 0; r < tile.size(); ++r)
+                hits[r] = intersect(grid, tile[r], {0.0, kInfinity}, CellMethod::Bilinear);
+        }
+        benchmark::DoNotOptimize(hits.data());
+        k = k + 1 == tiles ? 0 : k + 1;
+    }
+    state.SetLabel(std::string(state.range(0) == 0 ? "corner" : "grazing") + (bundled ? ", bundles" : ", ray by ray"));
+    state.SetItemsProcessed(state.iterations() * kBundle);
+}
+BENCHMARK(BM_CameraBundle)->Args({0, 0})->Args({0, 1})->Args({1, 0})->Args({1, 1});
 
 }  // namespace
