@@ -457,9 +457,7 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
         at.prefetch(i, std::clamp(j + (posY ? 2 : -1), int64_t(0), cellsY));
         const Visit visit = visitCell(i, j, t, tExit, entry, exit);
         if (visit == Visit::Hit || ends) break;
-        // Try the pyramid only after a cell the ray passed over: a cell the ray might touch cannot lie in a
-        // block it passes above, so cells near the surface pay nothing for the pyramid.
-        if (visit == Visit::Passed && levels > 0) level = 1;
+        const int64_t iWas = i, jWas = j;
         if (crossX) {
             i += stepX;
             if (i < 0 || i >= cellsX) break;
@@ -470,6 +468,11 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
             entry = posY ? CellSide::YLow : CellSide::YHigh;
         }
         t = tExit;
+        // Try the pyramid only after a cell the ray passed over: a cell the ray might touch cannot lie in a
+        // block it passes above, so cells near the surface pay nothing for the pyramid. Nor when a ray that
+        // does not rise stays in the same 2 x 2 block: its lowest height there is at the block's exit, as when
+        // the walk came down from that block (or met a cell it could not pass), so the block would fail again.
+        if (visit == Visit::Passed && levels > 0 && (dz > 0.0 || ((i ^ iWas) | (j ^ jWas)) > 1)) level = 1;
     }
     return result;
 }
