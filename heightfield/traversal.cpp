@@ -123,6 +123,13 @@ Real unitRoundoff() {
     return std::numeric_limits<Real>::epsilon();
 }
 
+// The margin by which a ray must clear a cell's highest corner for the walk to pass the cell without testing
+// it, for cell arithmetic with unit roundoff `eps`: it exceeds any rounding of the edge interpolation, so
+// skipping never breaks watertightness. Counting traces widen it to the grazing tolerance.
+double cellSkipMargin(double eps, double heightScale, double originZ) {
+    return 8.0 * eps * (heightScale + std::abs(originZ)) + 1e-30;
+}
+
 // True when the ray meets the surface in `interval`; the nearest such hit is written to `out` when given
 // (occlusion queries pass none and skip building it). `freeUntil` is a ray parameter up to which the ray is
 // known to pass above every cell by more than the skip margin (see bundleFreeDistanceM), or -infinity.
@@ -171,9 +178,8 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     const Real eps = unitRoundoff<Real>();
     const double heightScale = std::max(std::abs(zLo), std::abs(zHi));
     const double tolerance = grazingToleranceM(g);
-    // A cell is skipped when the ray's z range over it clears the cell's height range by this margin,
-    // which exceeds any rounding of the edge interpolation, so skipping never breaks watertightness.
-    double margin = 8.0 * double(eps) * (heightScale + std::abs(og.z)) + 1e-30;
+    // A cell is skipped when the ray's z range over it clears the cell's height range by this margin.
+    double margin = cellSkipMargin(double(eps), heightScale, og.z);
     if (counters) margin = std::max(margin, tolerance);
 
     const int64_t cellsX = g.cellsX(), cellsY = g.cellsY();
@@ -367,6 +373,24 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     const bool fromOutside = og.z > zHi + zPad || og.x < 0.0 || og.y < 0.0 || og.x > double(cellsX) ||
                              og.y > double(cellsY);
     int level = fromOutside ? std::min(3, levels) : 0;
+    // Moves the walk across the boundary `edge` of the x axis (when `acrossX`) or of the y axis, at parameter tb:
+    // into the column (row) beyond it, the other axis settled at tb. False when that leaves the grid.
+    auto crossInto = [&](bool acrossX, int64_t edge, double tb) {
+        if (acrossX) {
+            i = edge - 1 + exitOffX;
+            if (i < 0 || i >= cellsX) return false;
+            if (movesY) j = settle(j, oy, dg.y, cellsY, tb, stepY, false, exitY);
+            if (j < 0) return false;
+            entry = posX ? CellSide::XLow : CellSide::XHigh;
+        } else {
+            j = edge - 1 + exitOffY;
+            if (j < 0 || j >= cellsY) return false;
+            if (movesX) i = settle(i, ox, dg.x, cellsX, tb, stepX, true, exitX);
+            if (i < 0) return false;
+            entry = posY ? CellSide::YLow : CellSide::YHigh;
+        }
+        return true;
+    };
     // A stretch known to be free is passed like a skipped block: the walk resumes at the last cell boundary
     // within it, in the state the flat walk has just after crossing that boundary, and a few levels up.
     if (freeUntil > t0 && levels > 0) {
@@ -382,22 +406,13 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
         int64_t xEdge = 0, yEdge = 0;
         const double txb = movesX ? lastBoundary(ox, dg.x, cellsX, stepX, tAtX, xEdge) : -kInfinity;
         const double tyb = movesY ? lastBoundary(oy, dg.y, cellsY, stepY, tAtY, yEdge) : -kInfinity;
-        const bool leavesX = txb >= tyb;
-        const double tb = leavesX ? txb : tyb;
-        if (tb > t0) {
-            if (leavesX) {
-                i = xEdge - 1 + exitOffX;
-                if (i < 0 || i >= cellsX) return result;
-                if (movesY) j = settle(j, oy, dg.y, cellsY, tb, stepY, false, exitY);
-                if (j < 0) return result;
-                entry = posX ? CellSide::XLow : CellSide::XHigh;
-            } else {
-                j = yEdge - 1 + exitOffY;
-                if (j < 0 || j >= cellsY) return result;
-                if (movesX) i = settle(i, ox, dg.x, cellsX, tb, stepX, true, exitX);
-                if (i < 0) return result;
-                entry = posY ? CellSide::YLow : CellSide::YHigh;
-            }
+        const bool acrossX = txb >= tyb;
+        const double tb = acrossX ? txb : tyb;
+        // Only a boundary ahead of the first cell: the face a ray enters through can get a parameter a few ulps
+        // above t0 from the boundary formula, yet the flat walk never crosses it.
+        const bool ahead = acrossX ? (xEdge - 1 + exitOffX - i) * stepX > 0 : (yEdge - 1 + exitOffY - j) * stepY > 0;
+        if (tb > t0 && ahead) {
+            if (!crossInto(acrossX, acrossX ? xEdge : yEdge, tb)) return result;
             t = tb;
             level = std::min(2, levels);
         }
@@ -422,19 +437,7 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
             cornerG.reset();
             hasCarriedG = false;
             if (t1 <= tb) break;  // the interval ends inside the skipped block
-            if (leavesX) {
-                i = xEdge - 1 + exitOffX;
-                if (i < 0 || i >= cellsX) break;
-                if (movesY) j = settle(j, oy, dg.y, cellsY, tb, stepY, false, exitY);
-                if (j < 0) break;
-                entry = posX ? CellSide::XLow : CellSide::XHigh;
-            } else {
-                j = yEdge - 1 + exitOffY;
-                if (j < 0 || j >= cellsY) break;
-                if (movesX) i = settle(i, ox, dg.x, cellsX, tb, stepX, true, exitX);
-                if (i < 0) break;
-                entry = posY ? CellSide::YLow : CellSide::YHigh;
-            }
+            if (!crossInto(leavesX, leavesX ? xEdge : yEdge, tb)) break;
             t = tb;
             // Climb a level, unless a descending ray stays inside the parent block: the parent's remaining
             // stretch ends at the same exit, as low as before, so when the walk came down from the parent (the
@@ -470,8 +473,9 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
         t = tExit;
         // Try the pyramid only after a cell the ray passed over: a cell the ray might touch cannot lie in a
         // block it passes above, so cells near the surface pay nothing for the pyramid. Nor when a ray that
-        // does not rise stays in the same 2 x 2 block: its lowest height there is at the block's exit, as when
-        // the walk came down from that block (or met a cell it could not pass), so the block would fail again.
+        // does not rise stays in the same 2 x 2 block: its lowest height there is at the block's exit, so when
+        // the walk came down from that block, or met a cell of it that it could not pass, the block would fail
+        // again (the usual case; otherwise only a skip is missed, never a hit).
         if (visit == Visit::Passed && levels > 0 && (dz > 0.0 || ((i ^ iWas) | (j ^ jWas)) > 1)) level = 1;
     }
     return result;
@@ -534,7 +538,7 @@ double bundleFreeDistanceM(const HeightGrid& g, const glm::dvec3& origin, std::s
     // the rounding of decoded heights and that of the rays' heights (added per stretch below).
     const double heightScale = std::max(std::abs(g.minHeightM()), std::abs(g.maxHeightM()));
     const double floatEps = double(std::numeric_limits<float>::epsilon());
-    const double margin = std::max(8.0 * floatEps * (heightScale + std::abs(origin.z)) + 1e-30, grazingToleranceM(g));
+    const double margin = std::max(cellSkipMargin(floatEps, heightScale, origin.z), grazingToleranceM(g));
     const HeightGrid::PyramidView pyramid = g.pyramidView();
     const double slack = 2.0 * margin + pyramid.scale + 0x1p-20 * (heightScale + pyramid.scale);
 

@@ -75,7 +75,8 @@ bool occluded(const HeightGrid& grid, const Ray& ray, Interval interval, CellMet
 // whole bundle at once, the pyramid first proves how far from the origin (horizontally) every ray stays above
 // the terrain; each ray's walk then starts at its last cell boundary within that distance. Compact bundles (a
 // few pixels across) gain most. When the rays do not all share the first one's origin, or one is vertical, or
-// the traversal is flat, each is traced on its own. `counters` add up over the bundle.
+// the traversal is flat, each is traced on its own. `counters` add up over the bundle: the same `ambiguous`
+// verdict as the rays traced alone, fewer cells walked and blocks skipped wherever the shared stretch is used.
 void intersectBundle(const HeightGrid& grid, std::span<const Ray> rays, Interval interval, CellMethod method,
                      std::span<std::optional<HeightFieldHit>> hits, TraceCounters* counters = nullptr,
                      Traversal traversal = Traversal::Pyramid);

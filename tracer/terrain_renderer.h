@@ -67,7 +67,8 @@ void traceCameraRays(const TerrainSurface& surface, const PinholeCamera& camera,
             const int ex = std::min(bx + kBundle, x1), ey = std::min(by + kBundle, y1);
             size_t n = 0;
             for (int y = by; y < ey; ++y)
-                for (int x = bx; x < ex; ++x) rays[n++] = camera.generate((x + 0.5) / width, (y + 0.5) / height, aspect);
+                for (int x = bx; x < ex; ++x)
+                    rays[n++] = camera.generate((x + 0.5) / width, (y + 0.5) / height, aspect);
             surface.intersectBundle(std::span<const Ray>(rays.data(), n), {0.0, kInfinity},
                                     std::span<std::optional<HeightFieldHit>>(hits.data(), n));
             n = 0;

@@ -45,7 +45,8 @@ std::array<Ray, kSide * kSide> fan(const glm::dvec3& origin, const glm::dvec3& c
 // requires the same hit, bit for bit, from all of them.
 void requireSameAsSingle(const HeightGrid& g, std::span<const Ray> rays, Interval interval, Work& work) {
     std::vector<std::optional<HeightFieldHit>> bundle(rays.size()), counted(rays.size());
-    for (CellMethod m : {CellMethod::Bilinear, CellMethod::BilinearDouble, CellMethod::Triangles, CellMethod::Nearest}) {
+    for (CellMethod m : {CellMethod::Bilinear, CellMethod::BilinearDouble, CellMethod::Triangles, CellMethod::Nearest,
+                         CellMethod::Reference}) {
         intersectBundle(g, rays, interval, m, bundle);
         TraceCounters bundleCounters;
         intersectBundle(g, rays, interval, m, counted, &bundleCounters);
@@ -84,9 +85,10 @@ void requireSameAsSingle(const HeightGrid& g, std::span<const Ray> rays, Interva
     }
 }
 
-// Bundles from seeded cameras of every kind over `g`: high above looking down at any pitch, outside an edge
+// Bundles from seeded cameras of six kinds over `g`: high above looking down at any pitch, outside an edge
 // looking in, grazing just above the highest point (some rays rising), far away (1000 grid widths) looking
-// along the surface, and inside the relief (some bundles starting below the surface).
+// along the surface, inside the relief (some bundles starting below the surface), and a million metres up
+// looking straight down through a tiny cone.
 Work requireSameBundleHits(const HeightGrid& g, int bundles, uint64_t seed) {
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> U(0.0, 1.0);
@@ -104,7 +106,7 @@ Work requireSameBundleHits(const HeightGrid& g, int bundles, uint64_t seed) {
         const glm::dvec3 inside{ex * U(rng), ey * U(rng), g.minHeightM() + relief * U(rng)};
         glm::dvec3 origin, centre;
         double spread = 0.2 + 3.0 * U(rng);
-        switch (b % 5) {
+        switch (b % 6) {
         case 0: {  // above, looking down
             const double el = (5.0 + 84.0 * U(rng)) * M_PI / 180.0;
             origin = {inside.x, inside.y, g.maxHeightM() + (0.05 + U(rng)) * (relief + 50.0)};
@@ -134,9 +136,15 @@ Work requireSameBundleHits(const HeightGrid& g, int bundles, uint64_t seed) {
             spread = 0.01 * U(rng);
             break;
         }
-        default: {  // inside the relief, any direction
+        case 4: {  // inside the relief, any direction
             origin = inside;
             centre = glm::dvec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.7);
+            break;
+        }
+        default: {  // very high above, looking almost straight down
+            origin = {inside.x, inside.y, g.maxHeightM() + 1e6 * (1.0 + U(rng))};
+            centre = glm::dvec3(ex * U(rng), ey * U(rng), g.minHeightM()) - origin;
+            spread = 1e-4 * U(rng);
             break;
         }
         }
@@ -173,7 +181,8 @@ TEST_CASE("Ray bundles get exactly the hits of single rays on real DEMs, with le
 }
 
 TEST_CASE("Ray bundles get exactly the hits of single rays at the extremes", "[heightfield][bundle]") {
-    // Flat, planar, strongly twisted, tall with millimetre relief, thin strips, holes, and float fractal terrain.
+    // Flat, planar, strongly twisted, tall with millimetre relief, thin strips, centimetre cells, holes, and
+    // float fractal terrain.
     requireSameBundleHits(HeightGrid(33, 33, 10.0, 10.0, std::vector<float>(33 * 33, 250.0f)), 60, 31);
     std::vector<float> plane(64 * 48), twist(64 * 48);
     for (int j = 0; j < 48; ++j)
@@ -186,6 +195,8 @@ TEST_CASE("Ray bundles get exactly the hits of single rays at the extremes", "[h
     requireSameBundleHits(randomGrid(65, 65, 30.0, 30.0, 8000.0f, 8000.01f, 9), 60, 34);
     requireSameBundleHits(randomGrid(2, 300, 5.0, 5.0, 0.0f, 100.0f, 10), 60, 35);
     requireSameBundleHits(randomGrid(300, 2, 5.0, 5.0, 0.0f, 100.0f, 11), 60, 36);
+    const Work tiny = requireSameBundleHits(randomGrid(65, 65, 0.01, 0.013, 0.0f, 0.05f, 12), 60, 39);
+    CHECK(tiny.bundle.blocksSkipped < tiny.single.blocksSkipped);
     std::vector<float> z(100 * 100);
     std::vector<uint8_t> valid(100 * 100, 1);
     std::mt19937_64 rng(12);
@@ -200,28 +211,66 @@ TEST_CASE("Ray bundles get exactly the hits of single rays at the extremes", "[h
     CHECK(w.bundle.blocksSkipped < w.single.blocksSkipped * 3 / 4);
 }
 
-TEST_CASE("Ray bundles that cannot share a proof are traced ray by ray", "[heightfield][bundle]") {
-    const HeightGrid g = randomGrid(65, 65, 30.0, 30.0, 0.0f, 500.0f, 40);
+TEST_CASE("Ray bundles entering through a side face resume past the first cell only", "[heightfield][bundle]") {
+    // Flat ground with the rays entering through the high-x (and high-y) face, steeply down, so the free
+    // stretch ends inside the first column (row) and the hit lies in it. The face's boundary parameter from the
+    // walk's formula can round a few ulps past the entry parameter from the clip; the walk must not restart
+    // the first cell from it.
+    std::vector<float> ground(33 * 33, 0.0f);
+    ground[0] = 100.0f;  // one far peak lifts the grid's box above the rays' entry points
+    const HeightGrid g(33, 33, 10.0, 10.0, ground);
+    std::mt19937_64 rng(50);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
     Work work;
-    auto rays = fan({-100.0, -100.0, 900.0}, {1.0, 1.0, -0.6}, 2.0);
-    // One origin moved by a metre: no shared origin.
+    for (int b = 0; b < 400; ++b) {
+        const bool alongX = b % 2 == 0;
+        const double outside = g.extentXM() + 0.5 + 4.0 * U(rng), across = 40.0 + 240.0 * U(rng);
+        const glm::dvec3 origin = alongX ? glm::dvec3(outside, across, 10.0 + 30.0 * U(rng))
+                                         : glm::dvec3(across, outside, 10.0 + 30.0 * U(rng));
+        const double el = (60.0 + 25.0 * U(rng)) * M_PI / 180.0;
+        const glm::dvec3 centre = alongX ? glm::dvec3(-std::cos(el), 0.1 * (U(rng) - 0.5), -std::sin(el))
+                                         : glm::dvec3(0.1 * (U(rng) - 0.5), -std::cos(el), -std::sin(el));
+        requireSameAsSingle(g, fan(origin, centre, 0.5 + 2.0 * U(rng)), {0.0, kInfinity}, work);
+    }
+    CHECK(work.hits > work.rays * 9 / 10);
+}
+
+TEST_CASE("Ray bundles that cannot share a proof are traced ray by ray", "[heightfield][bundle]") {
+    FractalTerrainOptions fractal;
+    fractal.size = 129;
+    const HeightGrid g = fractalTerrain(fractal);
+    Work work;
+    const double relief = double(g.maxHeightM()) - g.minHeightM();
+    const glm::dvec3 eye{-0.2 * g.extentXM(), -0.2 * g.extentYM(), g.maxHeightM() + 0.5 * relief};
+    auto rays = fan(eye, glm::dvec3(0.5 * g.extentXM(), 0.5 * g.extentYM(), g.minHeightM()) - eye, 2.0);
+    // One origin moved by a metre (no shared origin), or a vertical ray among them (no horizontal distance to
+    // bound): each ray walks exactly as alone, so the bundle's counts are the single rays' counts.
     auto moved = rays;
     moved[17].origin.x += 1.0;
-    requireSameAsSingle(g, moved, {0.0, kInfinity}, work);
-    // A vertical ray among them: no horizontal distance to bound.
     auto vertical = rays;
     vertical[5].dir = {0.0, 0.0, -1.0};
-    requireSameAsSingle(g, vertical, {0.0, kInfinity}, work);
+    for (const auto& fallback : {moved, vertical}) {
+        Work alone;
+        requireSameAsSingle(g, fallback, {0.0, kInfinity}, alone);
+        CHECK(alone.bundle.blocksSkipped == alone.single.blocksSkipped);
+        CHECK(alone.bundle.cellsVisited == alone.single.cellsVisited);
+        CHECK(alone.hits > 0);
+    }
+    // The same rays with one origin do take the shortcut.
+    Work shared;
+    requireSameAsSingle(g, rays, {0.0, kInfinity}, shared);
+    CHECK(shared.bundle.blocksSkipped < shared.single.blocksSkipped);
     // From a grid vertex along directions through vertices (1:1, 1:2, 2:1 steps): x and y boundaries tie
     // all along, so the walk resumes after a corner.
     std::array<Ray, 9> diagonal;
     for (int k = 0; k < 9; ++k) {
         const glm::dvec3 d{1.0 + k % 3 / 2 + (k == 4), 1.0 + (k % 3 == 1), -0.05 * (1 + k / 3)};
-        diagonal[size_t(k)] = Ray{{30.0 * 3, 30.0 * 5, 520.0}, d};
+        diagonal[size_t(k)] = Ray{{g.cellSizeXM() * 3, g.cellSizeYM() * 5, g.maxHeightM() + 20.0}, d};
     }
     requireSameAsSingle(g, diagonal, {0.0, kInfinity}, work);
     // A bounded interval that starts and ends inside the relief, and one ray alone.
-    requireSameAsSingle(g, rays, {600.0, 1500.0}, work);
+    const double toCentre = glm::length(glm::dvec3(0.5 * g.extentXM(), 0.5 * g.extentYM(), g.minHeightM()) - eye);
+    requireSameAsSingle(g, rays, {0.6 * toCentre, 1.1 * toCentre}, work);
     requireSameAsSingle(g, std::span<const Ray>(rays.data(), 1), {0.0, kInfinity}, work);
     CHECK(work.hits > 0);
     // The flat walk never takes the bundle's shortcut: it is the reference the pyramid is compared with.
