@@ -543,7 +543,7 @@ double bundleFreeDistanceM(const HeightGrid& g, const glm::dvec3& origin, std::s
     const double slack = 2.0 * margin + pyramid.scale + 0x1p-20 * (heightScale + pyramid.scale);
 
     const double cellM = std::min(g.cellSizeXM(), g.cellSizeYM());
-    const double extentX = double(g.cellsX()) * g.cellSizeXM(), extentY = double(g.cellsY()) * g.cellSizeYM();
+    const double extentX = g.extentXM(), extentY = g.extentYM();
     const double farX = std::max(std::abs(origin.x), std::abs(origin.x - extentX));
     const double farY = std::max(std::abs(origin.y), std::abs(origin.y - extentY));
     const double rEnd = std::hypot(farX, farY) + 2.0 * cellM;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <optional>
 #include <random>
+#include <vector>
 
 namespace terracast::testing {
 
@@ -118,6 +119,32 @@ inline HeightGrid randomGrid(int64_t w, int64_t h, double cellX, double cellY, f
     std::vector<float> z(static_cast<size_t>(w * h));
     for (auto& v : z) v = U(rng);
     return HeightGrid(w, h, cellX, cellY, std::move(z));
+}
+
+// The extreme grids the traversal tests share, in this order: flat; planar; strongly twisted (alternating
+// +-200 m); tall with centimetre relief (8000 m); strips 2 cells wide along x and along y; 100 x 100 random
+// heights with 600 nodata holes.
+inline std::vector<HeightGrid> extremeGrids() {
+    std::vector<HeightGrid> grids;
+    grids.emplace_back(33, 33, 10.0, 10.0, std::vector<float>(33 * 33, 250.0f));
+    std::vector<float> plane(64 * 48), twist(64 * 48);
+    for (int j = 0; j < 48; ++j)
+        for (int i = 0; i < 64; ++i) {
+            plane[size_t(j * 64 + i)] = float(300.0 + 5.0 * i - 2.5 * j);
+            twist[size_t(j * 64 + i)] = float((i + j) % 2 ? 200.0 : -200.0);
+        }
+    grids.emplace_back(64, 48, 10.0, 10.0, plane);
+    grids.emplace_back(64, 48, 10.0, 10.0, twist);
+    grids.push_back(randomGrid(65, 65, 30.0, 30.0, 8000.0f, 8000.01f, 9));
+    grids.push_back(randomGrid(2, 300, 5.0, 5.0, 0.0f, 100.0f, 10));
+    grids.push_back(randomGrid(300, 2, 5.0, 5.0, 0.0f, 100.0f, 11));
+    std::vector<float> z(100 * 100);
+    std::vector<uint8_t> valid(100 * 100, 1);
+    std::mt19937_64 rng(12);
+    for (auto& v : z) v = float(rng() % 1000);
+    for (int k = 0; k < 600; ++k) valid[size_t(rng() % valid.size())] = 0;
+    grids.emplace_back(100, 100, 20.0, 20.0, z, valid);
+    return grids;
 }
 
 }  // namespace terracast::testing
