@@ -91,7 +91,7 @@ HeightGrid fractalTerrain(const FractalTerrainOptions& o) {
 
 int64_t fractalTerrainBytes(int64_t size, bool integerHeights) {
     // Heights, then the maximum pyramid's int16 levels exactly as HeightGrid builds them, with two 8-byte
-    // table entries per level (no masks: no nodata).
+    // table entries per level, and the minimum pyramid's levels 2 up (no masks: no nodata).
     const int64_t cells = size - 1;
     int64_t bytes = size * size * int64_t(integerHeights ? sizeof(int16_t) : sizeof(float));
     int64_t bx = (cells + 1) / 2, by = bx;
@@ -99,7 +99,7 @@ int64_t fractalTerrainBytes(int64_t size, bool integerHeights) {
     while (bx > 1 || by > 1) {
         bx = (bx + 1) / 2;
         by = (by + 1) / 2;
-        bytes += bx * by * int64_t(sizeof(int16_t)) + 2 * int64_t(sizeof(int64_t));
+        bytes += 2 * bx * by * int64_t(sizeof(int16_t)) + 2 * int64_t(sizeof(int64_t));
     }
     return bytes;
 }

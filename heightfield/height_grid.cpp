@@ -196,70 +196,97 @@ void HeightGrid::buildPyramid() {
         while (q > kLowestCode + 1 && decodeBound(q - 1) >= z) --q;
         return int16_t(q);
     };
+    // The last code not above z, for the minimum pyramid (the highest code is kept for blocks without a valid
+    // vertex).
+    auto encodeDown = [&](float z) {
+        const double guess = std::floor(double(z) * pyramidCodesPerMetre_) - double(pyramidOffset_);
+        auto q = static_cast<int32_t>(std::clamp(guess, double(kLowestCode), double(kHighestCode - 1)));
+        while (q > kLowestCode && decodeBound(q) > z) --q;
+        while (q < kHighestCode - 1 && decodeBound(q + 1) <= z) ++q;
+        return int16_t(q);
+    };
 
     // Level 1 straight from the vertices: block (bi, bj) covers cells 2bi..2bi+1, 2bj..2bj+1, that is
-    // vertices 2bi..2bi+2, 2bj..2bj+2. A cell's own maximum takes only its valid vertices, so a hole cell
+    // vertices 2bi..2bi+2, 2bj..2bj+2. A cell's own extremes take only its valid vertices, so a hole cell
     // next to a valid vertex still bounds it (the traversal's corner handling relies on that). Each block row
-    // first takes the column maxima of its three vertex rows, then the maxima of three columns per block.
-    int64_t bx = (cellsX() + 1) / 2, by = (cellsY() + 1) / 2;
-    std::vector<int16_t> level(static_cast<size_t>(bx * by));
-    auto levelOne = [&](auto get, auto none, auto toCode) {
-        parallelRanges(by, 3 * width_, [&](int64_t b0, int64_t b1) {
+    // first takes the column extremes of its three vertex rows, then the extremes of three columns per block.
+    // `pick` is std::max for the maximum pyramid and std::min for the minimum one.
+    const int64_t bx1 = (cellsX() + 1) / 2, by1 = (cellsY() + 1) / 2;
+    auto levelOne = [&](auto get, auto none, auto toCode, auto pick) {
+        std::vector<int16_t> level(static_cast<size_t>(bx1 * by1));
+        parallelRanges(by1, 3 * width_, [&](int64_t b0, int64_t b1) {
             std::vector<decltype(none)> column(static_cast<size_t>(width_), none);
             for (int64_t bj = b0; bj < b1; ++bj) {
                 std::fill(column.begin(), column.end(), none);
                 for (int64_t j = 2 * bj; j <= std::min(2 * bj + 2, cellsY()); ++j) {
                     const int64_t row = j * width_;
                     if (valid_.empty()) {
-                        for (int64_t i = 0; i < width_; ++i) column[size_t(i)] = std::max(column[size_t(i)], get(row + i));
+                        for (int64_t i = 0; i < width_; ++i) column[size_t(i)] = pick(column[size_t(i)], get(row + i));
                     } else {
                         for (int64_t i = 0; i < width_; ++i)
-                            if (bit(valid_, row + i)) column[size_t(i)] = std::max(column[size_t(i)], get(row + i));
+                            if (bit(valid_, row + i)) column[size_t(i)] = pick(column[size_t(i)], get(row + i));
                     }
                 }
-                for (int64_t bi = 0; bi < bx; ++bi) {
+                for (int64_t bi = 0; bi < bx1; ++bi) {
                     auto m = none;
-                    for (int64_t i = 2 * bi; i <= std::min(2 * bi + 2, cellsX()); ++i) m = std::max(m, column[size_t(i)]);
-                    level[size_t(bj * bx + bi)] = toCode(m);
+                    for (int64_t i = 2 * bi; i <= std::min(2 * bi + 2, cellsX()); ++i) m = pick(m, column[size_t(i)]);
+                    level[size_t(bj * bx1 + bi)] = toCode(m);
                 }
             }
         });
+        return level;
     };
+    // Levels 2..n, each from the one below; codes order as heights do, so the extreme code is the bound.
+    auto upperLevels = [&](std::vector<std::vector<int16_t>>& levels, int16_t none, auto pick) {
+        int64_t bx = bx1, by = by1;
+        while (bx > 1 || by > 1) {
+            const std::vector<int16_t>& prev = levels.back();
+            const int64_t px = bx, py = by;
+            bx = (bx + 1) / 2;
+            by = (by + 1) / 2;
+            std::vector<int16_t> next(static_cast<size_t>(bx * by));
+            parallelRanges(by, 4 * bx, [&](int64_t b0, int64_t b1) {
+                for (int64_t bj = b0; bj < b1; ++bj)
+                    for (int64_t bi = 0; bi < bx; ++bi) {
+                        int16_t m = none;
+                        for (int64_t j = 2 * bj; j <= std::min(2 * bj + 1, py - 1); ++j)
+                            for (int64_t i = 2 * bi; i <= std::min(2 * bi + 1, px - 1); ++i)
+                                m = pick(m, prev[size_t(j * px + i)]);
+                        next[size_t(bj * bx + bi)] = m;
+                    }
+            });
+            levels.push_back(std::move(next));
+        }
+    };
+    auto maxOf = [](auto a, auto b) { return std::max(a, b); };
+    auto minOf = [](auto a, auto b) { return std::min(a, b); };
+    std::vector<std::vector<int16_t>> lows;  // the minimum pyramid, levels 1..n
     if (storage_ == HeightStorage::Int16) {
         const int16_t* codes = codes_.data();
-        levelOne([codes](int64_t k) { return codes[k]; }, int16_t(kLowestCode), [](int16_t q) { return q; });
+        auto get = [codes](int64_t k) { return codes[k]; };
+        auto same = [](int16_t q) { return q; };
+        built.push_back(levelOne(get, int16_t(kLowestCode), same, maxOf));
+        lows.push_back(levelOne(get, int16_t(kHighestCode), same, minOf));
     } else {
         const float* h = heightsM_.data();
-        constexpr float kNone = -std::numeric_limits<float>::infinity();
-        levelOne([h](int64_t k) { return h[k]; }, kNone,
-                 [&](float z) { return z == kNone ? int16_t(kLowestCode) : encodeUp(z); });
+        auto get = [h](int64_t k) { return h[k]; };
+        constexpr float kInf = std::numeric_limits<float>::infinity();
+        built.push_back(levelOne(get, -kInf, [&](float z) { return z == -kInf ? int16_t(kLowestCode) : encodeUp(z); },
+                                 maxOf));
+        lows.push_back(levelOne(get, kInf, [&](float z) { return z == kInf ? int16_t(kHighestCode) : encodeDown(z); },
+                                minOf));
     }
-    built.push_back(std::move(level));
+    upperLevels(built, int16_t(kLowestCode), maxOf);
+    upperLevels(lows, int16_t(kHighestCode), minOf);
 
-    // Each further level from the one below; codes order as heights do, so the maximum code is the bound.
-    while (bx > 1 || by > 1) {
-        const std::vector<int16_t>& prev = built.back();
-        const int64_t px = bx, py = by;
-        bx = (bx + 1) / 2;
-        by = (by + 1) / 2;
-        std::vector<int16_t> next(static_cast<size_t>(bx * by));
-        parallelRanges(by, 4 * bx, [&](int64_t b0, int64_t b1) {
-            for (int64_t bj = b0; bj < b1; ++bj)
-                for (int64_t bi = 0; bi < bx; ++bi) {
-                    int16_t m = int16_t(kLowestCode);
-                    for (int64_t j = 2 * bj; j <= std::min(2 * bj + 1, py - 1); ++j)
-                        for (int64_t i = 2 * bi; i <= std::min(2 * bi + 1, px - 1); ++i)
-                            m = std::max(m, prev[size_t(j * px + i)]);
-                    next[size_t(bj * bx + bi)] = m;
-                }
-        });
-        built.push_back(std::move(next));
-    }
-    // One array for all levels, so the traversal finds a level's blocks from two small tables.
+    // One array for all levels, so the traversal finds a level's blocks from two small tables; the minimum
+    // pyramid keeps levels 2..n only, indexed like the maximum pyramid from level 2's start.
     int64_t total = 0;
     for (const auto& lv : built) total += int64_t(lv.size());
     pyramidCodes_.clear();
     pyramidCodes_.reserve(size_t(total));
+    pyramidMinCodes_.clear();
+    pyramidMinCodes_.reserve(size_t(total - (built.empty() ? 0 : int64_t(built[0].size()))));
     levelStart_.clear();
     levelBlocksX_.clear();
     levelStart_.reserve(built.size());
@@ -268,7 +295,9 @@ void HeightGrid::buildPyramid() {
         levelStart_.push_back(int64_t(pyramidCodes_.size()));
         levelBlocksX_.push_back(pyramidBlocksX(int(k + 1)));
         pyramidCodes_.insert(pyramidCodes_.end(), built[k].begin(), built[k].end());
+        if (k >= 1) pyramidMinCodes_.insert(pyramidMinCodes_.end(), lows[k].begin(), lows[k].end());
         std::vector<int16_t>().swap(built[k]);
+        std::vector<int16_t>().swap(lows[k]);
     }
     pyramidBuildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -292,7 +321,7 @@ void HeightGrid::scaleHeights(float k) {
 }
 
 size_t HeightGrid::memoryBytes() const {
-    const size_t pyramid = pyramidCodes_.capacity() * sizeof(int16_t) +
+    const size_t pyramid = (pyramidCodes_.capacity() + pyramidMinCodes_.capacity()) * sizeof(int16_t) +
                            (levelStart_.capacity() + levelBlocksX_.capacity()) * sizeof(int64_t);
     return heightsM_.capacity() * sizeof(float) + codes_.capacity() * sizeof(int16_t) +
            (valid_.capacity() + cellValid_.capacity()) * sizeof(uint64_t) + pyramid;

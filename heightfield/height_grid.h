@@ -100,23 +100,32 @@ public:
     int64_t pyramidBlocksY(int k) const { return (cellsY() + (int64_t(1) << k) - 1) >> k; }
     // An upper bound on the valid heights in block (bi, bj) of level k (1 <= k <= pyramidLevels()).
     double blockMaxM(int k, int64_t bi, int64_t bj) const { return pyramidView().blockMaxM(k, bi, bj); }
+    // The minimum pyramid, from level 2 up (level 1 would cost a quarter byte per cell and save little): a
+    // lower bound on the valid heights in block (bi, bj) of level k (2 <= k <= pyramidLevels()), in the same
+    // codes rounded down; a block without a valid vertex gets the highest code. It lets a ray that runs under
+    // the surface (one entering the grid through a side, below the terrain) pass whole blocks.
+    double blockMinM(int k, int64_t bi, int64_t bj) const { return pyramidView().blockMinM(k, bi, bj); }
 
     // The pyramid's arrays, for hot loops.
     struct PyramidView {
         const int16_t* codes;     // all levels, level 1 first
+        const int16_t* minCodes;  // the minimum pyramid, levels 2..n: level k's blocks from start[k - 1] - start[1]
         const int64_t* start;     // start[k - 1]: index of level k's first block
         const int64_t* blocksX;   // blocksX[k - 1]: blocks per row of level k
         int32_t offset;
         double scale;
         double codesPerMetre;  // 1 / scale
         int16_t code(int k, int64_t bi, int64_t bj) const { return codes[start[k - 1] + bj * blocksX[k - 1] + bi]; }
-        double blockMaxM(int k, int64_t bi, int64_t bj) const {
-            return double(float(double(int32_t(code(k, bi, bj)) + offset) * scale));
+        int16_t minCode(int k, int64_t bi, int64_t bj) const {
+            return minCodes[start[k - 1] - start[1] + bj * blocksX[k - 1] + bi];
         }
+        double blockMaxM(int k, int64_t bi, int64_t bj) const { return decode(code(k, bi, bj)); }
+        double blockMinM(int k, int64_t bi, int64_t bj) const { return decode(minCode(k, bi, bj)); }
+        double decode(int16_t q) const { return double(float(double(int32_t(q) + offset) * scale)); }
     };
     PyramidView pyramidView() const {
-        return {pyramidCodes_.data(), levelStart_.data(), levelBlocksX_.data(), pyramidOffset_, pyramidScale_,
-                pyramidCodesPerMetre_};
+        return {pyramidCodes_.data(), pyramidMinCodes_.data(), levelStart_.data(), levelBlocksX_.data(),
+                pyramidOffset_,       pyramidScale_,           pyramidCodesPerMetre_};
     }
 
 private:
@@ -149,6 +158,7 @@ private:
     float minHeightM_ = 0.0f;
     float maxHeightM_ = 0.0f;
     std::vector<int16_t> pyramidCodes_;          // levels 1..n, each row-major, one after the other
+    std::vector<int16_t> pyramidMinCodes_;       // the minimum pyramid's levels 2..n, laid out alike
     std::vector<int64_t> levelStart_;            // per level: index of its first block in pyramidCodes_
     std::vector<int64_t> levelBlocksX_;          // per level: blocks per row
     int32_t pyramidOffset_ = 0;

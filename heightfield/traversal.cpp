@@ -195,8 +195,9 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     Real carriedG = Real(0);
     bool hasCarriedG = false;
 
-    // What visiting one cell found.
-    enum class Visit { Passed, Tested, Hit };
+    // What visiting one cell found: passed over it, ran wholly below it (looking for the first crossing), tested
+    // it without a hit, or hit it.
+    enum class Visit { Passed, Below, Tested, Hit };
     auto visitCell = [&](int64_t ci, int64_t cj, double tEnter, double tExit, CellSide entry, CellSide exit) {
         if (counters) ++counters->cellsVisited;
         if (!g.cellValid(ci, cj)) {
@@ -218,7 +219,7 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
         if (!anyHit && zMax < std::min(std::min(h00, h10), std::min(h01, h11)) - margin) {
             cornerG.reset();
             hasCarriedG = false;
-            return Visit::Tested;
+            return Visit::Below;
         }
         const auto h = corners<Real>(h00, h10, h01, h11);  // the heights read for the tests above
         if (counters) ++counters->cellsTested;
@@ -317,6 +318,9 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     const double codeSlackM = margin + pyramid.scale + 0x1p-22 * (heightScale + pyramid.scale) +
                               0x1p-50 * (std::abs(og.z) + std::abs(dg.z) * std::max(std::abs(t0), std::abs(t1)));
     const double codeZ0 = (og.z - codeSlackM) * pyramid.codesPerMetre - double(pyramid.offset);
+    // The same for a block the ray runs under: passed when its lowest code lies above the ray's highest height
+    // over it, raised by that slack.
+    const double codeZ0High = (og.z + codeSlackM) * pyramid.codesPerMetre - double(pyramid.offset);
     const double codeDz = dg.z * pyramid.codesPerMetre;
     const bool descending = dg.z < 0.0;
     const bool posX = dg.x > 0.0, posY = dg.y > 0.0;
@@ -373,6 +377,8 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     const bool fromOutside = og.z > zHi + zPad || og.x < 0.0 || og.y < 0.0 || og.x > double(cellsX) ||
                              og.y > double(cellsY);
     int level = fromOutside ? std::min(3, levels) : 0;
+    // True while the last cell visited lay wholly above the ray (and the walk looks for the first crossing).
+    bool under = false;
     // Moves the walk across the boundary `edge` of the x axis (when `acrossX`) or of the y axis, at parameter tb:
     // into the column (row) beyond it, the other axis settled at tb. False when that leaves the grid.
     auto crossInto = [&](bool acrossX, int64_t edge, double tb) {
@@ -429,9 +435,17 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
             const double tb = leavesX ? txb : tyb;
             const double tOut = std::max(t, std::min(tb, t1));
             const double tLow = descending ? tOut : t;
+            bool above = true;
             if (!(tOut > t) || !(double(pyramid.code(level, bi, bj)) < codeZ0 + codeDz * tLow)) {
-                --level;
-                continue;
+                // Under the surface, a block of the minimum pyramid (level 2 up) may lie wholly above the ray.
+                const double tHigh = descending ? t : tOut;
+                if (!under || level < 2 || !(tOut > t) ||
+                    !(double(pyramid.minCode(level, bi, bj)) > codeZ0High + codeDz * tHigh)) {
+                    // Level 1 has no minimum: a ray under the surface goes straight to the cells.
+                    level = under && level == 2 ? 0 : level - 1;
+                    continue;
+                }
+                above = false;
             }
             if (counters) ++counters->blocksSkipped;
             cornerG.reset();
@@ -441,9 +455,10 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
             t = tb;
             // Climb a level, unless a descending ray stays inside the parent block: the parent's remaining
             // stretch ends at the same exit, as low as before, so when the walk came down from the parent (the
-            // usual case) it would fail again; the sibling at this level is tested instead.
-            if (level < levels && (dz > 0.0 || (i >> (level + 1)) != (bi >> 1) || (j >> (level + 1)) != (bj >> 1)))
-                ++level;
+            // usual case) it would fail again; the sibling at this level is tested instead. Under the surface
+            // the same holds for a ray that does not descend.
+            const bool sameParent = (i >> (level + 1)) == (bi >> 1) && (j >> (level + 1)) == (bj >> 1);
+            if (level < levels && (!sameParent || (above ? dz > 0.0 : dz < 0.0))) ++level;
             continue;
         }
 
@@ -477,6 +492,9 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
         // the walk came down from that block, or met a cell of it that it could not pass, the block would fail
         // again (the usual case; otherwise only a skip is missed, never a hit).
         if (visit == Visit::Passed && levels > 0 && (dz > 0.0 || ((i ^ iWas) | (j ^ jWas)) > 1)) level = 1;
+        // A ray running under the surface tries the minimum pyramid, which starts at level 2.
+        under = visit == Visit::Below && levels >= 2;
+        if (under) level = 2;
     }
     return result;
 }

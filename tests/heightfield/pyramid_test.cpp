@@ -1,5 +1,6 @@
 // The maximum pyramid: its levels bound the cells, and traversal through it returns exactly the hits of the
 // flat DDA walk.
+#include "heightfield/fractal_terrain.h"
 #include "heightfield/traversal.h"
 #include "loaders/dem_loader.h"
 #include "support/brute_force.h"
@@ -88,6 +89,20 @@ TEST_CASE("Pyramid levels bound every cell's valid heights", "[heightfield][pyra
                               g.at(1, 2), g.at(2, 2)});
     CHECK(g.blockMaxM(1, 0, 0) >= m);
     CHECK(g.blockMaxM(1, 0, 0) <= m + step);
+
+    // The minimum pyramid, from level 2: below every cell it covers, and nearly tight.
+    CHECK(g.blockMinM(g.pyramidLevels(), 0, 0) <= g.minHeightM());
+    CHECK(g.blockMinM(g.pyramidLevels(), 0, 0) >= g.minHeightM() - step);
+    for (int k = 2; k <= g.pyramidLevels(); ++k)
+        for (int64_t j = 0; j < g.cellsY(); ++j)
+            for (int64_t i = 0; i < g.cellsX(); ++i) {
+                const float lo = std::min({g.at(i, j), g.at(i + 1, j), g.at(i, j + 1), g.at(i + 1, j + 1)});
+                REQUIRE(g.blockMinM(k, i >> k, j >> k) <= lo);
+            }
+    float lo = INFINITY;
+    for (int64_t j = 0; j <= 4; ++j)
+        for (int64_t i = 0; i <= 4; ++i) lo = std::min(lo, g.at(i, j));
+    CHECK(g.blockMinM(2, 0, 0) >= lo - step);
 }
 
 TEST_CASE("Pyramid traversal gives exactly the flat walk's hits on real DEMs", "[heightfield][pyramid]") {
@@ -105,4 +120,87 @@ TEST_CASE("Pyramid traversal gives exactly the flat walk's hits at the extremes"
     // Flat, planar, strongly twisted, tall with tiny relief, thin strips, and a grid with nodata holes.
     uint64_t seed = 6;
     for (const HeightGrid& g : extremeGrids()) requireSameHits(g, 3000, seed++);
+}
+
+// Rays that enter the grid through one of its sides below the surface there (as the lowest rays of a camera
+// beside the grid do) run under the terrain, where only the minimum pyramid can skip anything. They must find
+// exactly the flat walk's hits (those rising come up through the surface from below) while visiting a
+// fraction of its cells.
+TEST_CASE("Rays under the surface skip blocks of the minimum pyramid and keep the flat walk's hits",
+          "[heightfield][pyramid]") {
+    std::vector<HeightGrid> grids;
+    grids.push_back(sample("N44W072.srtm3-white-mountains-nh.hgt").grid);
+    grids.push_back(sample("usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif").grid);
+    FractalTerrainOptions fractal;
+    fractal.size = 257;
+    fractal.seed = 41;
+    grids.push_back(fractalTerrain(fractal));
+    const size_t terrains = grids.size();  // real and fractal terrain, then the extremes
+    for (HeightGrid& g : extremeGrids()) grids.push_back(std::move(g));
+    uint64_t seed = 40;
+    for (size_t n = 0; n < grids.size(); ++n) {
+        const HeightGrid& g = grids[n];
+        INFO("grid " << g.width() << " x " << g.height() << ", seed " << seed);
+        std::mt19937_64 rng(seed++);
+        std::uniform_real_distribution<double> U(0.0, 1.0);
+        const double relief = std::max(1.0, double(g.maxHeightM()) - g.minHeightM());
+        int64_t hits = 0, rays = 0, pyramidCells = 0, flatCells = 0;
+        for (int k = 0; k < 2000; ++k) {
+            // A point on one of the four sides, under the edge's surface by up to a third of the relief.
+            const int side = k % 4;
+            const double f = U(rng);
+            glm::dvec3 p;
+            glm::dvec2 inward;
+            double edgeZ = 0.0;
+            auto lerpEdge = [&](int64_t i0, int64_t j0, int64_t i1, int64_t j1, double w) {
+                return (1.0 - w) * g.at(i0, j0) + w * g.at(i1, j1);
+            };
+            if (side < 2) {
+                const double y = f * double(g.cellsY());
+                const auto j = std::min(int64_t(y), g.cellsY() - 1);
+                const int64_t i = side == 0 ? 0 : g.cellsX();
+                edgeZ = lerpEdge(i, j, i, j + 1, y - double(j));
+                p = {double(i) * g.cellSizeXM(), y * g.cellSizeYM(), 0.0};
+                inward = {side == 0 ? 1.0 : -1.0, 0.0};
+            } else {
+                const double x = f * double(g.cellsX());
+                const auto i = std::min(int64_t(x), g.cellsX() - 1);
+                const int64_t j = side == 2 ? 0 : g.cellsY();
+                edgeZ = lerpEdge(i, j, i + 1, j, x - double(i));
+                p = {x * g.cellSizeXM(), double(j) * g.cellSizeYM(), 0.0};
+                inward = {0.0, side == 2 ? 1.0 : -1.0};
+            }
+            p.z = edgeZ - (0.001 + U(rng) / 3.0) * relief;
+            // Into the grid within 60 degrees of the side's normal, from 20 degrees down to 10 up.
+            const double az = std::atan2(inward.y, inward.x) + (U(rng) - 0.5) * (2.0 * M_PI / 3.0);
+            const double el = (-20.0 + 30.0 * U(rng)) * M_PI / 180.0;
+            const glm::dvec3 d{std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), std::sin(el)};
+            const Ray ray{p - 50.0 * d, d};
+            for (CellMethod m : {CellMethod::Bilinear, CellMethod::Triangles, CellMethod::Nearest}) {
+                INFO("ray " << k << " method " << cellMethodName(m));
+                const auto a = intersect(g, ray, {0, kInfinity}, m, nullptr, Traversal::Pyramid);
+                const auto b = intersect(g, ray, {0, kInfinity}, m, nullptr, Traversal::Flat);
+                REQUIRE(a.has_value() == b.has_value());
+                if (a) {
+                    ++hits;
+                    REQUIRE(a->t == b->t);
+                    REQUIRE(a->cellX == b->cellX);
+                    REQUIRE(a->cellY == b->cellY);
+                    REQUIRE(a->normal == b->normal);
+                }
+                TraceCounters pc, fc;
+                (void)intersect(g, ray, {0, kInfinity}, m, &pc, Traversal::Pyramid);
+                (void)intersect(g, ray, {0, kInfinity}, m, &fc, Traversal::Flat);
+                pyramidCells += pc.cellsVisited;
+                flatCells += fc.cellsVisited;
+                ++rays;
+            }
+        }
+        // On terrain some rays come up through the surface, and the walk under it visits a small share of the
+        // flat walk's cells. (The extremes' blocks mostly reach down to their grid's lowest height.)
+        if (n < terrains) {
+            CHECK(hits > rays / 20);
+            CHECK(pyramidCells * 8 < flatCells);
+        }
+    }
 }

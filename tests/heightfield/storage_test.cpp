@@ -182,7 +182,7 @@ TEST_CASE("Storage: bytes per cell within budget, with and without nodata", "[he
     }
 }
 
-TEST_CASE("Storage: the int16 pyramid bounds every block, exactly over int16 heights", "[heightfield][storage]") {
+TEST_CASE("Storage: the int16 pyramids bound every block, exactly over int16 heights", "[heightfield][storage]") {
     for (uint64_t seed = 1; seed <= 6; ++seed) {
         const bool whole = seed % 2 == 0;
         const int holes = seed > 4 ? 0 : 7;
@@ -194,15 +194,21 @@ TEST_CASE("Storage: the int16 pyramid bounds every block, exactly over int16 hei
         for (int k = 1; k <= g.pyramidLevels(); ++k)
             for (int64_t bj = 0; bj < g.pyramidBlocksY(k); ++bj)
                 for (int64_t bi = 0; bi < g.pyramidBlocksX(k); ++bi) {
-                    // The highest valid vertex of the block's cells.
-                    float m = -INFINITY;
+                    // The highest and lowest valid vertices of the block's cells.
+                    float m = -INFINITY, lo = INFINITY;
                     for (int64_t j = bj << k; j <= std::min((bj + 1) << k, g.cellsY()); ++j)
                         for (int64_t i = bi << k; i <= std::min((bi + 1) << k, g.cellsX()); ++i)
-                            if (g.vertexValid(i, j)) m = std::max(m, g.at(i, j));
+                            if (g.vertexValid(i, j)) {
+                                m = std::max(m, g.at(i, j));
+                                lo = std::min(lo, g.at(i, j));
+                            }
                     if (m == -INFINITY) continue;
                     INFO("level " << k << " block " << bi << ", " << bj);
                     REQUIRE(g.blockMaxM(k, bi, bj) >= double(m));
                     if (whole) REQUIRE(g.blockMaxM(k, bi, bj) == double(m));
+                    if (k < 2) continue;  // the minimum pyramid starts at level 2
+                    REQUIRE(g.blockMinM(k, bi, bj) <= double(lo));
+                    if (whole) REQUIRE(g.blockMinM(k, bi, bj) == double(lo));
                 }
     }
 }
