@@ -354,6 +354,9 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     auto settle = [&](int64_t from, double o, double d, int64_t cells, double tb, int64_t step, bool inclusive,
                       auto exitAt) -> int64_t {
         auto crossed = [&](int64_t c) { return inclusive ? exitAt(c) <= tb : exitAt(c) < tb; };
+        // Most often the walk has not left its column (row) by tb: one comparison, whose boundary parameter
+        // does not wait for tb.
+        if (!crossed(from)) return from;
         auto k = static_cast<int64_t>(std::clamp(o + tb * d, 0.0, static_cast<double>(cells - 1)));
         if ((k - from) * step < 0) k = from;
         if (crossed(k)) {
@@ -381,7 +384,7 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     bool under = false;
     // Moves the walk across the boundary `edge` of the x axis (when `acrossX`) or of the y axis, at parameter tb:
     // into the column (row) beyond it, the other axis settled at tb. False when that leaves the grid.
-    auto crossInto = [&](bool acrossX, int64_t edge, double tb) {
+    auto crossInto = [&](bool acrossX, int64_t edge, double tb) __attribute__((always_inline)) {
         if (acrossX) {
             i = edge - 1 + exitOffX;
             if (i < 0 || i >= cellsX) return false;
