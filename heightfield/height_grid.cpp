@@ -8,6 +8,7 @@
 #include <limits>
 #include <string>
 #include <thread>
+#include <utility>
 
 namespace terracast {
 
@@ -209,32 +210,45 @@ void HeightGrid::buildPyramid() {
     // Level 1 straight from the vertices: block (bi, bj) covers cells 2bi..2bi+1, 2bj..2bj+1, that is
     // vertices 2bi..2bi+2, 2bj..2bj+2. A cell's own extremes take only its valid vertices, so a hole cell
     // next to a valid vertex still bounds it (the traversal's corner handling relies on that). Each block row
-    // first takes the column extremes of its three vertex rows, then the extremes of three columns per block.
-    // `pick` is std::max for the maximum pyramid and std::min for the minimum one.
+    // first takes the column extremes of its three vertex rows, then the extremes of three columns per block;
+    // the highest and the lowest in one pass over the heights.
     const int64_t bx1 = (cellsX() + 1) / 2, by1 = (cellsY() + 1) / 2;
-    auto levelOne = [&](auto get, auto none, auto toCode, auto pick) {
-        std::vector<int16_t> level(static_cast<size_t>(bx1 * by1));
+    std::vector<int16_t> high1(static_cast<size_t>(bx1 * by1)), low1(high1.size());
+    auto levelOne = [&](auto get, auto none, auto highCode, auto lowCode) {
+        using T = typename decltype(none)::first_type;
         parallelRanges(by1, 3 * width_, [&](int64_t b0, int64_t b1) {
-            std::vector<decltype(none)> column(static_cast<size_t>(width_), none);
+            std::vector<T> hi(static_cast<size_t>(width_)), lo(static_cast<size_t>(width_));
             for (int64_t bj = b0; bj < b1; ++bj) {
-                std::fill(column.begin(), column.end(), none);
+                std::fill(hi.begin(), hi.end(), none.first);
+                std::fill(lo.begin(), lo.end(), none.second);
                 for (int64_t j = 2 * bj; j <= std::min(2 * bj + 2, cellsY()); ++j) {
                     const int64_t row = j * width_;
                     if (valid_.empty()) {
-                        for (int64_t i = 0; i < width_; ++i) column[size_t(i)] = pick(column[size_t(i)], get(row + i));
+                        for (int64_t i = 0; i < width_; ++i) {
+                            const T z = get(row + i);
+                            hi[size_t(i)] = std::max(hi[size_t(i)], z);
+                            lo[size_t(i)] = std::min(lo[size_t(i)], z);
+                        }
                     } else {
                         for (int64_t i = 0; i < width_; ++i)
-                            if (bit(valid_, row + i)) column[size_t(i)] = pick(column[size_t(i)], get(row + i));
+                            if (bit(valid_, row + i)) {
+                                const T z = get(row + i);
+                                hi[size_t(i)] = std::max(hi[size_t(i)], z);
+                                lo[size_t(i)] = std::min(lo[size_t(i)], z);
+                            }
                     }
                 }
                 for (int64_t bi = 0; bi < bx1; ++bi) {
-                    auto m = none;
-                    for (int64_t i = 2 * bi; i <= std::min(2 * bi + 2, cellsX()); ++i) m = pick(m, column[size_t(i)]);
-                    level[size_t(bj * bx1 + bi)] = toCode(m);
+                    T h = none.first, l = none.second;
+                    for (int64_t i = 2 * bi; i <= std::min(2 * bi + 2, cellsX()); ++i) {
+                        h = std::max(h, hi[size_t(i)]);
+                        l = std::min(l, lo[size_t(i)]);
+                    }
+                    high1[size_t(bj * bx1 + bi)] = highCode(h);
+                    low1[size_t(bj * bx1 + bi)] = lowCode(l);
                 }
             }
         });
-        return level;
     };
     // Levels 2..n, each from the one below; codes order as heights do, so the extreme code is the bound.
     auto upperLevels = [&](std::vector<std::vector<int16_t>>& levels, int16_t none, auto pick) {
@@ -260,22 +274,21 @@ void HeightGrid::buildPyramid() {
     };
     auto maxOf = [](auto a, auto b) { return std::max(a, b); };
     auto minOf = [](auto a, auto b) { return std::min(a, b); };
-    std::vector<std::vector<int16_t>> lows;  // the minimum pyramid, levels 1..n
     if (storage_ == HeightStorage::Int16) {
         const int16_t* codes = codes_.data();
-        auto get = [codes](int64_t k) { return codes[k]; };
         auto same = [](int16_t q) { return q; };
-        built.push_back(levelOne(get, int16_t(kLowestCode), same, maxOf));
-        lows.push_back(levelOne(get, int16_t(kHighestCode), same, minOf));
+        levelOne([codes](int64_t k) { return codes[k]; }, std::pair<int16_t, int16_t>(kLowestCode, kHighestCode), same,
+                 same);
     } else {
         const float* h = heightsM_.data();
-        auto get = [h](int64_t k) { return h[k]; };
         constexpr float kInf = std::numeric_limits<float>::infinity();
-        built.push_back(levelOne(get, -kInf, [&](float z) { return z == -kInf ? int16_t(kLowestCode) : encodeUp(z); },
-                                 maxOf));
-        lows.push_back(levelOne(get, kInf, [&](float z) { return z == kInf ? int16_t(kHighestCode) : encodeDown(z); },
-                                minOf));
+        levelOne([h](int64_t k) { return h[k]; }, std::pair<float, float>(-kInf, kInf),
+                 [&](float z) { return z == -kInf ? int16_t(kLowestCode) : encodeUp(z); },
+                 [&](float z) { return z == kInf ? int16_t(kHighestCode) : encodeDown(z); });
     }
+    built.push_back(std::move(high1));
+    std::vector<std::vector<int16_t>> lows;  // the minimum pyramid, levels 1..n
+    lows.push_back(std::move(low1));
     upperLevels(built, int16_t(kLowestCode), maxOf);
     upperLevels(lows, int16_t(kHighestCode), minOf);
 
