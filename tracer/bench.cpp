@@ -170,6 +170,9 @@ BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& s) {
                     BenchPass p;
                     p.camera = camera;
                     p.threads = threads;
+                    // One untimed trace first, so every method's timed traces start from the same warm state
+                    // (its own data in the caches, the threads awake) whatever ran before it.
+                    (void)traceSurface(grid, surface, rs, false);
                     for (int rep = 0; rep < std::max(1, s.repeat); ++rep) {
                         const MethodComparison m = traceSurface(grid, surface, rs, false);
                         p.primaryRays = m.primaryRays;
