@@ -27,7 +27,7 @@ bool isFractalTerrainSize(int64_t size);
 // vertex sits at 0 m. Throws GridError when the size is not 2^n + 1 or the options are not positive and finite.
 HeightGrid fractalTerrain(const FractalTerrainOptions& options);
 
-// The bytes fractalTerrain's grid of this size holds (heights and maximum pyramid), computed without building it.
+// The bytes fractalTerrain's grid of this size holds (heights and pyramids), computed without building it.
 // With integer heights the grid holds int16 codes (2 bytes per vertex) as long as its relief stays within
 // 65535 m (it does with the default offsets, by a wide margin); otherwise float32 (4 bytes per vertex).
 int64_t fractalTerrainBytes(int64_t size, bool integerHeights = false);

@@ -84,7 +84,7 @@ public:
     // Multiplies every height by k (vertical exaggeration).
     void scaleHeights(float k);
 
-    // Bytes held by the grid's own arrays (heights, masks and the max pyramid), by capacity.
+    // Bytes held by the grid's own arrays (heights, masks and the pyramids), by capacity.
     size_t memoryBytes() const;
 
     // The maximum pyramid (Tevs, Ihrke, Seidel 2008, "Maximum mipmaps for fast, accurate, and scalable
@@ -100,7 +100,7 @@ public:
     int64_t pyramidBlocksY(int k) const { return (cellsY() + (int64_t(1) << k) - 1) >> k; }
     // An upper bound on the valid heights in block (bi, bj) of level k (1 <= k <= pyramidLevels()).
     double blockMaxM(int k, int64_t bi, int64_t bj) const { return pyramidView().blockMaxM(k, bi, bj); }
-    // The minimum pyramid, from level 2 up (level 1 would cost a quarter byte per cell and save little): a
+    // The minimum pyramid, from level 2 up (level 1 would cost half a byte per cell and save little): a
     // lower bound on the valid heights in block (bi, bj) of level k (2 <= k <= pyramidLevels()), in the same
     // codes rounded down; a block without a valid vertex gets the highest code. It lets a ray that runs under
     // the surface (one entering the grid through a side, below the terrain) pass whole blocks.
@@ -125,7 +125,7 @@ public:
     };
     PyramidView pyramidView() const {
         return {pyramidCodes_.data(), pyramidMinCodes_.data(), levelStart_.data(), levelBlocksX_.data(),
-                pyramidOffset_,       pyramidScale_,           pyramidCodesPerMetre_};
+                pyramidOffset_, pyramidScale_, pyramidCodesPerMetre_};
     }
 
 private:

@@ -30,7 +30,7 @@ const char* cellMethodName(CellMethod method);
 // All methods, in the order reports list them.
 const std::vector<CellMethod>& allCellMethods();
 
-// How cells are reached: through the maximum pyramid (skipping blocks the ray passes above), or one by one.
+// How cells are reached: through the pyramids (skipping blocks the ray passes above, or under), or one by one.
 // Both give exactly the same hits; the flat walk exists for comparison.
 enum class Traversal { Pyramid, Flat };
 

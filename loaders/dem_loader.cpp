@@ -35,8 +35,8 @@ namespace {
 using namespace loader_support;
 
 constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
-// Per vertex while loading and tracing: the height, the nodata flag, the cell flag, the maximum pyramid
-// (a third of a float per cell) and the reader's float copy of the raster row data.
+// Per vertex while loading and tracing: the height, the nodata flag, the cell flag, the pyramids (under a
+// third of a float per cell) and the reader's float copy of the raster row data.
 constexpr double kBytesPerVertex = sizeof(float) + 2 * sizeof(uint8_t) + sizeof(float) / 3.0 + sizeof(float);
 // Heights farther than this from sea level (1000 km; the Earth's relief spans 20 km) are refused as a wrong
 // unit, scale or undeclared nodata: tracing them would lose all float precision on real terrain.

@@ -23,7 +23,7 @@ namespace terracast {
 
 // The methods `bench` measures.
 enum class BenchMethod {
-    Bilinear,      // direct, exact patch, through the maximum pyramid
+    Bilinear,      // direct, exact patch, through the pyramids
     BilinearFlat,  // the same, walking every cell (the pyramid's ablation)
     Triangles,     // direct, two triangles per cell, through the pyramid
     Embree,        // Embree triangle mesh
@@ -112,7 +112,7 @@ struct BenchMethodResult {
     BenchMethod method = BenchMethod::Bilinear;
     bool skipped = false;          // refused by settings.refuse; nothing below is measured
     double neededBytes = 0.0;      // when skipped: what it would have needed
-    double buildSeconds = 0.0;     // the maximum pyramid, or Embree's scene (buffers and BVH)
+    double buildSeconds = 0.0;     // the pyramids, or Embree's scene (buffers and BVH)
     int64_t memoryBytes = 0;       // kept for tracing: the grid with its pyramid, or Embree's own bytes
     int64_t peakMemoryBytes = 0;   // the most held at once while building
     double bytesPerCell = 0.0;     // memoryBytes over the grid's cells

@@ -25,7 +25,7 @@ struct CompareSettings {
 
 struct MethodComparison {
     SurfaceMethod method = SurfaceMethod::Bilinear;
-    double buildSeconds = 0.0;         // Embree's BVH build, or the direct tracer's maximum pyramid
+    double buildSeconds = 0.0;         // Embree's BVH build, or the direct tracer's pyramids
     int64_t memoryBytes = 0;           // ours from our allocations; Embree's from its memory monitor
     int64_t primaryRays = 0;
     int64_t shadowRays = 0;

@@ -49,7 +49,7 @@ public:
 
     SurfaceMethod method() const { return method_; }
     Traversal traversal() const { return traversal_; }
-    // Seconds spent building acceleration data: Embree's BVH, or the grid's maximum pyramid.
+    // Seconds spent building acceleration data: Embree's BVH, or the grid's pyramids.
     double buildSeconds() const { return embree_ ? embree_->buildSeconds() : grid_.pyramidBuildSeconds(); }
     // Bytes of the surface's own data: the grid for the direct tracer; Embree's own count for Embree
     // (it copies the vertices).

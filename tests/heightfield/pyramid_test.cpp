@@ -1,5 +1,5 @@
-// The maximum pyramid: its levels bound the cells, and traversal through it returns exactly the hits of the
-// flat DDA walk.
+// The maximum and minimum pyramids: their levels bound the cells, and traversal through them returns exactly
+// the hits of the flat DDA walk.
 #include "heightfield/fractal_terrain.h"
 #include "heightfield/traversal.h"
 #include "loaders/dem_loader.h"
