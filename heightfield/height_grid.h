@@ -5,6 +5,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -104,7 +105,10 @@ public:
     // lower bound on the valid heights in block (bi, bj) of level k (2 <= k <= pyramidLevels()), in the same
     // codes rounded down; a block without a valid vertex gets the highest code. It lets a ray that runs under
     // the surface (one entering the grid through a side, below the terrain) pass whole blocks.
-    double blockMinM(int k, int64_t bi, int64_t bj) const { return pyramidView().blockMinM(k, bi, bj); }
+    // Below level 2 the bound is -infinity.
+    double blockMinM(int k, int64_t bi, int64_t bj) const {
+        return k < 2 ? -std::numeric_limits<double>::infinity() : pyramidView().blockMinM(k, bi, bj);
+    }
 
     // The pyramid's arrays, for hot loops.
     struct PyramidView {

@@ -186,8 +186,13 @@ TEST_CASE("Rays under the surface skip blocks of the minimum pyramid and keep th
                     REQUIRE(a->t == b->t);
                     REQUIRE(a->cellX == b->cellX);
                     REQUIRE(a->cellY == b->cellY);
+                    REQUIRE(a->u == b->u);
+                    REQUIRE(a->v == b->v);
                     REQUIRE(a->normal == b->normal);
                 }
+                // Occlusion treats the terrain as solid (no minimum pyramid there); both walks must still agree.
+                REQUIRE(occluded(g, ray, {0, kInfinity}, m, nullptr, Traversal::Pyramid) ==
+                        occluded(g, ray, {0, kInfinity}, m, nullptr, Traversal::Flat));
                 TraceCounters pc, fc;
                 (void)intersect(g, ray, {0, kInfinity}, m, &pc, Traversal::Pyramid);
                 (void)intersect(g, ray, {0, kInfinity}, m, &fc, Traversal::Flat);
