@@ -299,7 +299,7 @@ void HeightGrid::buildPyramid() {
     pyramidCodes_.clear();
     pyramidCodes_.reserve(size_t(total));
     pyramidMinCodes_.clear();
-    pyramidMinCodes_.reserve(size_t(total - (built.empty() ? 0 : int64_t(built[0].size()))));
+    pyramidMinCodes_.reserve(size_t(total - int64_t(built[0].size())));
     levelStart_.clear();
     levelBlocksX_.clear();
     levelStart_.reserve(built.size());

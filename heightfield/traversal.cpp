@@ -438,17 +438,14 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
             const double tb = leavesX ? txb : tyb;
             const double tOut = std::max(t, std::min(tb, t1));
             const double tLow = descending ? tOut : t;
-            bool above = true;
-            if (!(tOut > t) || !(double(pyramid.code(level, bi, bj)) < codeZ0 + codeDz * tLow)) {
-                // Under the surface, a block of the minimum pyramid (level 2 up) may lie wholly above the ray.
-                const double tHigh = descending ? t : tOut;
-                if (!under || level < 2 || !(tOut > t) ||
-                    !(double(pyramid.minCode(level, bi, bj)) > codeZ0High + codeDz * tHigh)) {
-                    // Level 1 has no minimum: a ray under the surface goes straight to the cells.
-                    level = under && level == 2 ? 0 : level - 1;
-                    continue;
-                }
-                above = false;
+            const bool ahead = tOut > t;
+            const bool above = ahead && double(pyramid.code(level, bi, bj)) < codeZ0 + codeDz * tLow;
+            // Under the surface, a block of the minimum pyramid (level 2 up) may lie wholly above the ray.
+            if (!above && !(ahead && under && level >= 2 &&
+                            double(pyramid.minCode(level, bi, bj)) > codeZ0High + codeDz * (descending ? t : tOut))) {
+                // Level 1 has no minimum: a ray under the surface goes straight to the cells.
+                level = under && level == 2 ? 0 : level - 1;
+                continue;
             }
             if (counters) ++counters->blocksSkipped;
             cornerG.reset();
