@@ -167,11 +167,15 @@ void cellIntersector(const uint8_t* data, size_t size) {
     const bool hitPlausible = s && (std::abs(G(LD(*s))) <= 4 * errG || std::abs(segLD.gEntry) <= 4 * errG ||
                                     std::abs(segLD.gExit) <= 4 * errG);
 
-    // Where the exact G crosses zero cleanly (|G'| large against the rounding), the float solver must hit there.
+    // Where the exact G crosses zero cleanly (|G'| large against the rounding, and neither end of the segment
+    // within rounding of the surface), the float solver must hit there. An end within rounding may sit on either
+    // side of the crossing: the exit values come from the exit point clamped to the cell, which can differ from
+    // G(length) by more than the crossing's distance from the end.
     if (reference) {
         const LD slope = std::abs(2 * A * *reference + B);
         const LD tolerance = 16 * errG / std::max(slope, LD(1e-300L));
-        const bool clean = tolerance < LD(len) / 8 && std::abs(segLD.gEntry) > 4 * errG;
+        const bool clean = tolerance < LD(len) / 8 && std::abs(segLD.gEntry) > 4 * errG &&
+                           std::abs(segLD.gExit) > 4 * errG;
         if (clean && !s) throw FuzzFailure("clean crossing missed: " + describe());
         if (clean && std::abs(LD(*s) - *reference) > tolerance + 4 * LD(std::numeric_limits<float>::epsilon()) * LD(len) &&
             !hitPlausible)
