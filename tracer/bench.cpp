@@ -133,30 +133,45 @@ BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& s) {
     const int buildThreads = s.threadCounts.empty() ? 0 : *std::max_element(s.threadCounts.begin(), s.threadCounts.end());
     FlushDenormalsScope flush;
 
+    // Methods are measured in groups whose surfaces are alive together, and within a group each pass's traces go
+    // round the methods in turn (a, b, c, a, b, c, ...): a stretch in which the shared machine runs slow then
+    // falls on every method of the group alike instead of on one method's whole pass. The methods on the grid
+    // itself cost no memory of their own, so they share a group with Embree's triangle mesh, the baseline of
+    // every ratio; Embree's grid geometry is measured in a group of its own afterwards, so that no two Embree
+    // scenes are held at once.
+    std::vector<std::vector<size_t>> groups(1);
+    for (size_t k = 0; k < s.methods.size(); ++k) {
+        if (s.methods[k] == BenchMethod::EmbreeGrid) groups.push_back({k});
+        else groups.front().push_back(k);
+    }
+    out.methods.resize(s.methods.size());
     std::vector<double> referenceT;  // the first measured method's hit distances in the first pass
     flush.run([&] {
-        for (BenchMethod method : s.methods) {
-            BenchMethodResult r;
-            r.method = method;
-            if (s.refuse)
-                if (const auto need = s.refuse(method)) {
-                    r.skipped = true;
-                    r.neededBytes = *need;
-                    out.methods.push_back(std::move(r));
-                    continue;
-                }
-            if (s.onStep) s.onStep(std::string("building ") + benchMethodName(method));
-            const TerrainSurface surface(grid, benchSurfaceMethod(method), buildThreads, benchTraversal(method));
-            r.buildSeconds = surface.buildSeconds();
-            r.memoryBytes = surface.memoryBytes();
-            r.peakMemoryBytes = std::max(surface.peakMemoryBytes(), r.memoryBytes);
-            r.bytesPerCell = double(r.memoryBytes) / double(out.cells);
-            r.peakBytesPerCell = double(r.peakMemoryBytes) / double(out.cells);
+        for (const std::vector<size_t>& group : groups) {
+            // Built in the settings' order; refused methods are skipped.
+            std::vector<std::pair<size_t, std::unique_ptr<TerrainSurface>>> built;
+            for (size_t k : group) {
+                const BenchMethod method = s.methods[k];
+                BenchMethodResult& r = out.methods[k];
+                r.method = method;
+                if (s.refuse)
+                    if (const auto need = s.refuse(method)) {
+                        r.skipped = true;
+                        r.neededBytes = *need;
+                        continue;
+                    }
+                if (s.onStep) s.onStep(std::string("building ") + benchMethodName(method));
+                auto surface = std::make_unique<TerrainSurface>(grid, benchSurfaceMethod(method), buildThreads,
+                                                                benchTraversal(method));
+                r.buildSeconds = surface->buildSeconds();
+                r.memoryBytes = surface->memoryBytes();
+                r.peakMemoryBytes = std::max(surface->peakMemoryBytes(), r.memoryBytes);
+                r.bytesPerCell = double(r.memoryBytes) / double(out.cells);
+                r.peakBytesPerCell = double(r.peakMemoryBytes) / double(out.cells);
+                built.emplace_back(k, std::move(surface));
+            }
             for (BenchCamera camera : s.cameras)
                 for (int threads : s.threadCounts) {
-                    if (s.onStep)
-                        s.onStep(std::string(benchMethodName(method)) + ", " + benchCameraName(camera) + " camera, " +
-                                 std::to_string(threads) + (threads == 1 ? " thread" : " threads"));
                     TerrainRenderSettings rs;
                     rs.width = s.width;
                     rs.height = s.height;
@@ -164,32 +179,41 @@ BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& s) {
                     rs.sun.azimuthDeg = s.sunAzimuthDeg;
                     rs.sun.elevationDeg = s.sunElevationDeg;
                     rs.camera = benchCamera(grid, camera, aspect);
-                    // Rates and hit distances only. On a shared machine a pass is slowed now and then by other
-                    // work, so the fastest of the repetitions is kept, for every method alike. The first trace's
-                    // hit distances give the agreement; each trace's buffers go before the next one.
-                    BenchPass p;
-                    p.camera = camera;
-                    p.threads = threads;
-                    // One untimed trace first, so every method's timed traces start from the same warm state
-                    // (its own data in the caches, the threads awake) whatever ran before it.
-                    (void)traceSurface(grid, surface, rs, false);
-                    for (int rep = 0; rep < std::max(1, s.repeat); ++rep) {
-                        const MethodComparison m = traceSurface(grid, surface, rs, false);
-                        p.primaryRays = m.primaryRays;
-                        p.shadowRays = m.shadowRays;
-                        p.primaryRaysPerSecond = std::max(p.primaryRaysPerSecond, m.primaryRaysPerSecond);
-                        p.shadowRaysPerSecond = std::max(p.shadowRaysPerSecond, m.shadowRaysPerSecond);
-                        if (rep == 0 && r.passes.empty()) {
-                            if (referenceT.empty()) referenceT = m.hitT;
-                            int64_t agree = 0;
-                            for (size_t k = 0; k < m.hitT.size(); ++k)
-                                agree += std::isnan(m.hitT[k]) == std::isnan(referenceT[k]);
-                            r.hitAgreement = m.hitT.empty() ? 0.0 : double(agree) / double(m.hitT.size());
-                        }
+                    const std::string passName = std::string(benchCameraName(camera)) + " camera, " +
+                                                 std::to_string(threads) + (threads == 1 ? " thread" : " threads");
+                    // Rates and hit distances only. The fastest of each method's repetitions is kept, for every
+                    // method alike. The first trace's hit distances give the agreement; each trace's buffers go
+                    // before the next one. One untimed trace per method first, so that every method's timed
+                    // traces start with the threads awake.
+                    std::vector<BenchPass> passes(built.size());
+                    for (size_t b = 0; b < built.size(); ++b) {
+                        passes[b].camera = camera;
+                        passes[b].threads = threads;
+                        if (s.onStep)
+                            s.onStep(std::string(benchMethodName(s.methods[built[b].first])) + ", " + passName +
+                                     ", warm-up");
+                        (void)traceSurface(grid, *built[b].second, rs, false);
                     }
-                    r.passes.push_back(p);
+                    for (int rep = 0; rep < std::max(1, s.repeat); ++rep)
+                        for (size_t b = 0; b < built.size(); ++b) {
+                            BenchMethodResult& r = out.methods[built[b].first];
+                            if (s.onStep) s.onStep(std::string(benchMethodName(r.method)) + ", " + passName);
+                            const MethodComparison m = traceSurface(grid, *built[b].second, rs, false);
+                            BenchPass& p = passes[b];
+                            p.primaryRays = m.primaryRays;
+                            p.shadowRays = m.shadowRays;
+                            p.primaryRaysPerSecond = std::max(p.primaryRaysPerSecond, m.primaryRaysPerSecond);
+                            p.shadowRaysPerSecond = std::max(p.shadowRaysPerSecond, m.shadowRaysPerSecond);
+                            if (rep == 0 && r.passes.empty()) {
+                                if (referenceT.empty()) referenceT = m.hitT;
+                                int64_t agree = 0;
+                                for (size_t k = 0; k < m.hitT.size(); ++k)
+                                    agree += std::isnan(m.hitT[k]) == std::isnan(referenceT[k]);
+                                r.hitAgreement = m.hitT.empty() ? 0.0 : double(agree) / double(m.hitT.size());
+                            }
+                        }
+                    for (size_t b = 0; b < built.size(); ++b) out.methods[built[b].first].passes.push_back(passes[b]);
                 }
-            out.methods.push_back(std::move(r));
         }
     });
 

@@ -1,5 +1,6 @@
 // The bench library: denormals are flushed on every thread that traces, the grazing camera stands just above
-// the highest peak looking 8 degrees down, and a grid's report holds every method, refused ones as skipped.
+// the highest peak looking 8 degrees down, a grid's report holds every method, refused ones as skipped, and
+// each pass's traces go round the methods in turn.
 #include "heightfield/fractal_terrain.h"
 #include "tracer/bench.h"
 
@@ -12,6 +13,7 @@
 #include <atomic>
 #include <mutex>
 #include <set>
+#include <string>
 #include <thread>
 #include <cmath>
 #include <vector>
@@ -108,6 +110,43 @@ TEST_CASE("bench: one grid, every method, refused methods skipped, ratios to Emb
     }
     // The flat walk and the pyramid hit the same cells, so they cast the same shadow rays.
     for (size_t q = 0; q < 4; ++q) CHECK(r.methods[0].passes[q].shadowRays == r.methods[1].passes[q].shadowRays);
+}
+
+TEST_CASE("bench: a pass's traces go round the methods in turn, Embree's grid geometry in a group of its own",
+          "[tracer][bench]") {
+    FractalTerrainOptions o;
+    o.size = 17;
+    const HeightGrid g = fractalTerrain(o);
+    BenchSettings s;
+    s.width = 16;
+    s.height = 12;
+    s.threadCounts = {1};
+    s.cameras = {BenchCamera::Corner};
+    s.repeat = 2;
+    s.methods = {BenchMethod::Bilinear, BenchMethod::EmbreeGrid, BenchMethod::Embree};
+    std::vector<std::string> steps;
+    s.onStep = [&](const std::string& step) { steps.push_back(step); };
+    const BenchGridResult r = benchGrid(g, s);
+    const std::string pass = ", corner camera, 1 thread";
+    const std::vector<std::string> expected{
+        "building bilinear", "building embree",
+        "bilinear" + pass + ", warm-up", "embree" + pass + ", warm-up",
+        "bilinear" + pass, "embree" + pass, "bilinear" + pass, "embree" + pass,
+        "building embree-grid", "embree-grid" + pass + ", warm-up", "embree-grid" + pass, "embree-grid" + pass};
+    CHECK(steps == expected);
+    // Results stay in the settings' order, each with its one pass.
+    REQUIRE(r.methods.size() == 3);
+    CHECK(r.methods[0].method == BenchMethod::Bilinear);
+    CHECK(r.methods[1].method == BenchMethod::EmbreeGrid);
+    CHECK(r.methods[2].method == BenchMethod::Embree);
+    for (const auto& m : r.methods) {
+        INFO(benchMethodName(m.method));
+        REQUIRE(m.passes.size() == 1);
+        CHECK(m.passes[0].primaryRays == 16 * 12);
+        CHECK(m.passes[0].primaryRaysPerSecond > 0.0);
+        CHECK(m.hitAgreement > 0.9);
+    }
+    CHECK(r.methods[2].passes[0].ratioToEmbreePrimary == 1.0);
 }
 
 TEST_CASE("bench: method names round-trip and map to their surfaces", "[tracer][bench]") {
