@@ -138,7 +138,8 @@ BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& s) {
     // falls on every method of the group alike instead of on one method's whole pass. The methods on the grid
     // itself cost no memory of their own, so they share a group with Embree's triangle mesh, the baseline of
     // every ratio; Embree's grid geometry is measured in a group of its own afterwards, so that no two Embree
-    // scenes are held at once.
+    // scenes are held at once. Its ratios are therefore over the mesh's passes of the first group, taken minutes
+    // earlier, not in turn with it.
     std::vector<std::vector<size_t>> groups(1);
     for (size_t k = 0; k < s.methods.size(); ++k) {
         if (s.methods[k] == BenchMethod::EmbreeGrid) groups.push_back({k});

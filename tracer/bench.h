@@ -92,7 +92,7 @@ struct BenchSettings {
     std::vector<BenchMethod> methods = benchMethods();  // measured in this order
     // Asked before a method is built: the bytes it would need when it cannot run here, or none when it can.
     std::function<std::optional<double>(BenchMethod)> refuse;
-    // Called before each build and each pass with a short description (for progress).
+    // Called before each build and each trace (warm-up or timed) with a short description (for progress).
     std::function<void(const std::string& step)> onStep;
 };
 
@@ -117,7 +117,9 @@ struct BenchMethodResult {
     int64_t peakMemoryBytes = 0;   // the most held at once while building
     double bytesPerCell = 0.0;     // memoryBytes over the grid's cells
     double peakBytesPerCell = 0.0; // peakMemoryBytes over the grid's cells
-    double hitAgreement = 0.0;     // share of the first pass's camera rays with the first method's hit/miss verdict
+    double hitAgreement = 0.0;     // share of the first pass's camera rays with the first measured method's hit/miss
+                                   // verdict (the settings' first method, or the first but embree-grid, which is
+                                   // measured last)
     std::vector<BenchPass> passes; // cameras outer, thread counts inner, as in settings
 };
 

@@ -146,7 +146,27 @@ TEST_CASE("bench: a pass's traces go round the methods in turn, Embree's grid ge
         CHECK(m.passes[0].primaryRaysPerSecond > 0.0);
         CHECK(m.hitAgreement > 0.9);
     }
+    CHECK(r.methods[0].hitAgreement == 1.0);  // the reference: measured first
     CHECK(r.methods[2].passes[0].ratioToEmbreePrimary == 1.0);
+
+    // With Embree's mesh refused the other methods are still measured in turn, and every ratio is NaN.
+    s.refuse = [](BenchMethod m) -> std::optional<double> {
+        if (m == BenchMethod::Embree) return 1e12;
+        return std::nullopt;
+    };
+    s.methods = {BenchMethod::Bilinear, BenchMethod::Triangles, BenchMethod::Embree};
+    steps.clear();
+    const BenchGridResult refused = benchGrid(g, s);
+    CHECK(steps == std::vector<std::string>{"building bilinear", "building triangles", "bilinear" + pass + ", warm-up",
+                                            "triangles" + pass + ", warm-up", "bilinear" + pass,
+                                            "triangles" + pass, "bilinear" + pass, "triangles" + pass});
+    REQUIRE(refused.methods.size() == 3);
+    CHECK(refused.methods[2].skipped);
+    for (size_t k = 0; k < 2; ++k) {
+        REQUIRE(refused.methods[k].passes.size() == 1);
+        CHECK(std::isnan(refused.methods[k].passes[0].ratioToEmbreePrimary));
+        CHECK(std::isnan(refused.methods[k].passes[0].ratioToEmbreeShadow));
+    }
 }
 
 TEST_CASE("bench: method names round-trip and map to their surfaces", "[tracer][bench]") {
