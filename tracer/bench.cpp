@@ -186,34 +186,30 @@ BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& s) {
                     // method alike. The first trace's hit distances give the agreement; each trace's buffers go
                     // before the next one. One untimed trace per method first, so that every method's timed
                     // traces start with the threads awake.
-                    std::vector<BenchPass> passes(built.size());
-                    for (size_t b = 0; b < built.size(); ++b) {
-                        passes[b].camera = camera;
-                        passes[b].threads = threads;
+                    for (const auto& [k, surface] : built) {
+                        out.methods[k].passes.push_back({.camera = camera, .threads = threads});
                         if (s.onStep)
-                            s.onStep(std::string(benchMethodName(s.methods[built[b].first])) + ", " + passName +
-                                     ", warm-up");
-                        (void)traceSurface(grid, *built[b].second, rs, false);
+                            s.onStep(std::string(benchMethodName(s.methods[k])) + ", " + passName + ", warm-up");
+                        (void)traceSurface(grid, *surface, rs, false);
                     }
                     for (int rep = 0; rep < std::max(1, s.repeat); ++rep)
-                        for (size_t b = 0; b < built.size(); ++b) {
-                            BenchMethodResult& r = out.methods[built[b].first];
+                        for (const auto& [k, surface] : built) {
+                            BenchMethodResult& r = out.methods[k];
                             if (s.onStep) s.onStep(std::string(benchMethodName(r.method)) + ", " + passName);
-                            const MethodComparison m = traceSurface(grid, *built[b].second, rs, false);
-                            BenchPass& p = passes[b];
+                            const MethodComparison m = traceSurface(grid, *surface, rs, false);
+                            BenchPass& p = r.passes.back();
                             p.primaryRays = m.primaryRays;
                             p.shadowRays = m.shadowRays;
                             p.primaryRaysPerSecond = std::max(p.primaryRaysPerSecond, m.primaryRaysPerSecond);
                             p.shadowRaysPerSecond = std::max(p.shadowRaysPerSecond, m.shadowRaysPerSecond);
-                            if (rep == 0 && r.passes.empty()) {
+                            if (rep == 0 && r.passes.size() == 1) {
                                 if (referenceT.empty()) referenceT = m.hitT;
                                 int64_t agree = 0;
-                                for (size_t k = 0; k < m.hitT.size(); ++k)
-                                    agree += std::isnan(m.hitT[k]) == std::isnan(referenceT[k]);
+                                for (size_t q = 0; q < m.hitT.size(); ++q)
+                                    agree += std::isnan(m.hitT[q]) == std::isnan(referenceT[q]);
                                 r.hitAgreement = m.hitT.empty() ? 0.0 : double(agree) / double(m.hitT.size());
                             }
                         }
-                    for (size_t b = 0; b < built.size(); ++b) out.methods[built[b].first].passes.push_back(passes[b]);
                 }
         }
     });
