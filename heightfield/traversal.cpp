@@ -133,15 +133,16 @@ double cellSkipMargin(double eps, double heightScale, double originZ) {
 // True when the ray meets the surface in `interval`; the nearest such hit is written to `out` when given
 // (occlusion queries pass none and skip building it). `freeUntil` is a ray parameter up to which the ray is
 // known to pass above every cell by more than the skip margin (see bundleFreeDistanceM), or -infinity.
-template <class Real, Shape shape, class Heights>
+template <class Real, Shape shape, class Heights, int zSign>
 bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval interval, bool anyHit,
            TraceCounters* counters, Traversal traversal, HeightFieldHit* out, double freeUntil) {
     bool result = false;
     if (interval.empty()) return result;
     const glm::dvec3 og{ray.origin.x * g.cellsPerMetreX(), ray.origin.y * g.cellsPerMetreY(), ray.origin.z};
     const glm::dvec3 dg{ray.dir.x * g.cellsPerMetreX(), ray.dir.y * g.cellsPerMetreY(), ray.dir.z};
-    if (dg.x == 0.0 && dg.y == 0.0 && dg.z == 0.0) return result;
-    if (!std::isfinite(og.x + og.y + og.z + dg.x + dg.y + dg.z)) return result;
+    // A zero direction (or a NaN in it) fails the first test, an infinite or NaN coordinate the second.
+    const double dirSize = std::abs(dg.x) + std::abs(dg.y) + std::abs(dg.z);
+    if (!(dirSize > 0.0) || !std::isfinite(og.x + og.y + og.z + dirSize)) return result;
     // The direction's reciprocals, 0 along an axis the ray does not move along. A component so small that its
     // reciprocal, or the product of the reciprocal with a coordinate the walk may meet (up to twice the grid's
     // extent, for the edges of the last pyramid blocks), would overflow counts as not moving too: crossing one
@@ -207,20 +208,22 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
             return Visit::Passed;
         }
         const double zEnter = og.z + tEnter * dg.z, zExit = og.z + tExit * dg.z;
-        const double h00 = at(ci, cj), h10 = at(ci + 1, cj), h01 = at(ci, cj + 1), h11 = at(ci + 1, cj + 1);
+        // The corners as read (floats); their extremes are taken in float, which converting to double keeps.
+        const float f00 = at(ci, cj), f10 = at(ci + 1, cj), f01 = at(ci, cj + 1), f11 = at(ci + 1, cj + 1);
         const double zMin = std::min(zEnter, zExit), zMax = std::max(zEnter, zExit);
-        if (zMin > std::max(std::max(h00, h10), std::max(h01, h11)) + margin) {
+        if (zMin > double(std::max(std::max(f00, f10), std::max(f01, f11))) + margin) {
             cornerG.reset();
             hasCarriedG = false;
             return Visit::Passed;
         }
         // A segment wholly below the cell is skipped when looking for the first crossing; for occlusion the
         // terrain is solid, so such a segment is tested (and found blocked) below.
-        if (!anyHit && zMax < std::min(std::min(h00, h10), std::min(h01, h11)) - margin) {
+        if (!anyHit && zMax < double(std::min(std::min(f00, f10), std::min(f01, f11))) - margin) {
             cornerG.reset();
             hasCarriedG = false;
             return Visit::Below;
         }
+        const double h00 = f00, h10 = f10, h01 = f01, h11 = f11;
         const auto h = corners<Real>(h00, h10, h01, h11);  // the heights read for the tests above
         if (counters) ++counters->cellsTested;
 
@@ -322,9 +325,9 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     // over it, raised by that slack.
     const double codeZ0High = (og.z + codeSlackM) * pyramid.codesPerMetre - double(pyramid.offset);
     const double codeDz = dg.z * pyramid.codesPerMetre;
-    const bool descending = dg.z < 0.0;
+    constexpr bool descending = zSign < 0;
     const bool posX = dg.x > 0.0, posY = dg.y > 0.0;
-    const double ox = og.x, oy = og.y, dz = dg.z;
+    const double ox = og.x, oy = og.y;
     // The parameter of the boundary x = const is (x - ox) / dx, taken as x / dx - ox / dx with the reciprocal;
     // for a ray parallel to the boundaries the reciprocal is 0 and the constant +infinity, so every boundary
     // lies at +infinity.
@@ -435,7 +438,7 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
             const int64_t yEdge = (bj + exitOffY) << level;
             const double txb = tAtX(xEdge), tyb = tAtY(yEdge);
             const bool leavesX = txb <= tyb;
-            const double tb = leavesX ? txb : tyb;
+            const double tb = std::min(txb, tyb);  // txb when leavesX
             const double tOut = std::max(t, std::min(tb, t1));
             const double tLow = descending ? tOut : t;
             const bool ahead = tOut > t;
@@ -458,7 +461,7 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
             // usual case) it would fail again; the sibling at this level is tested instead. Under the surface
             // the same holds for a ray that does not descend.
             const bool sameParent = (i >> (level + 1)) == (bi >> 1) && (j >> (level + 1)) == (bj >> 1);
-            if (level < levels && (!sameParent || (above ? dz > 0.0 : dz < 0.0))) ++level;
+            if (level < levels && (!sameParent || (above ? zSign > 0 : zSign < 0))) ++level;
             continue;
         }
 
@@ -491,7 +494,7 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
         // does not rise stays in the same 2 x 2 block: its lowest height there is at the block's exit, so when
         // the walk came down from that block, or met a cell of it that it could not pass, the block would fail
         // again (the usual case; otherwise only a skip is missed, never a hit).
-        if (visit == Visit::Passed && levels > 0 && (dz > 0.0 || ((i ^ iWas) | (j ^ jWas)) > 1)) level = 1;
+        if (visit == Visit::Passed && levels > 0 && (zSign > 0 || ((i ^ iWas) | (j ^ jWas)) > 1)) level = 1;
         // A ray running under the surface tries the minimum pyramid, which starts at level 2.
         under = visit == Visit::Below && levels >= 2;
         if (under) level = 2;
@@ -499,17 +502,29 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     return result;
 }
 
+// The walk is compiled once per sign of the ray's vertical direction, which its block tests and level choices
+// depend on at every step.
+template <class Real, Shape shape, class Heights>
+bool traceSign(const HeightGrid& g, const Heights& at, const Ray& ray, Interval interval, bool anyHit,
+               TraceCounters* counters, Traversal tr, HeightFieldHit* out, double freeUntil) {
+    if (ray.dir.z < 0.0)
+        return trace<Real, shape, Heights, -1>(g, at, ray, interval, anyHit, counters, tr, out, freeUntil);
+    if (ray.dir.z > 0.0)
+        return trace<Real, shape, Heights, 1>(g, at, ray, interval, anyHit, counters, tr, out, freeUntil);
+    return trace<Real, shape, Heights, 0>(g, at, ray, interval, anyHit, counters, tr, out, freeUntil);
+}
+
 template <class Real, Shape shape>
 bool traceStorage(const HeightGrid& g, const Ray& ray, Interval interval, bool anyHit, TraceCounters* counters,
                   Traversal tr, HeightFieldHit* out, double freeUntil) {
     if (const float* h = g.float32Heights())
-        return trace<Real, shape>(g, Float32Heights{h, g.width()}, ray, interval, anyHit, counters, tr, out,
-                                  freeUntil);
+        return traceSign<Real, shape>(g, Float32Heights{h, g.width()}, ray, interval, anyHit, counters, tr, out,
+                                      freeUntil);
     if (g.codeScale() == 1.0)
-        return trace<Real, shape>(g, Int16UnitHeights{g.int16Codes(), g.width(), g.codeOffset()}, ray, interval,
-                                  anyHit, counters, tr, out, freeUntil);
-    return trace<Real, shape>(g, Int16Heights{g.int16Codes(), g.width(), g.codeOffset(), g.codeScale()}, ray,
-                              interval, anyHit, counters, tr, out, freeUntil);
+        return traceSign<Real, shape>(g, Int16UnitHeights{g.int16Codes(), g.width(), g.codeOffset()}, ray,
+                                      interval, anyHit, counters, tr, out, freeUntil);
+    return traceSign<Real, shape>(g, Int16Heights{g.int16Codes(), g.width(), g.codeOffset(), g.codeScale()}, ray,
+                                  interval, anyHit, counters, tr, out, freeUntil);
 }
 
 bool dispatch(const HeightGrid& g, const Ray& ray, Interval interval, CellMethod method, bool anyHit,
