@@ -514,34 +514,33 @@ bool traceSign(const HeightGrid& g, const Heights& at, const Ray& ray, Interval 
     return trace<Real, shape, Heights, 0>(g, at, ray, interval, anyHit, counters, tr, out, freeUntil);
 }
 
-template <class Real, Shape shape>
-bool traceStorage(const HeightGrid& g, const Ray& ray, Interval interval, bool anyHit, TraceCounters* counters,
-                  Traversal tr, HeightFieldHit* out, double freeUntil) {
-    if (const float* h = g.float32Heights())
-        return traceSign<Real, shape>(g, Float32Heights{h, g.width()}, ray, interval, anyHit, counters, tr, out,
-                                      freeUntil);
-    if (g.codeScale() == 1.0)
-        return traceSign<Real, shape>(g, Int16UnitHeights{g.int16Codes(), g.width(), g.codeOffset()}, ray,
-                                      interval, anyHit, counters, tr, out, freeUntil);
-    return traceSign<Real, shape>(g, Int16Heights{g.int16Codes(), g.width(), g.codeOffset(), g.codeScale()}, ray,
-                                  interval, anyHit, counters, tr, out, freeUntil);
+// Calls f.template operator()<Real, shape>(heights) with the arithmetic and cell shape of `method` and the height
+// access of the grid's storage, so that callers tracing many rays choose them once.
+template <class F>
+bool withMethod(const HeightGrid& g, CellMethod method, F&& f) {
+    auto storage = [&]<class Real, Shape shape>() {
+        if (const float* h = g.float32Heights())
+            return f.template operator()<Real, shape>(Float32Heights{h, g.width()});
+        if (g.codeScale() == 1.0)
+            return f.template operator()<Real, shape>(Int16UnitHeights{g.int16Codes(), g.width(), g.codeOffset()});
+        return f.template operator()<Real, shape>(
+            Int16Heights{g.int16Codes(), g.width(), g.codeOffset(), g.codeScale()});
+    };
+    switch (method) {
+    case CellMethod::Bilinear: return storage.template operator()<float, Shape::Bilinear>();
+    case CellMethod::BilinearDouble: return storage.template operator()<double, Shape::Bilinear>();
+    case CellMethod::Triangles: return storage.template operator()<float, Shape::Triangles>();
+    case CellMethod::Nearest: return storage.template operator()<float, Shape::Nearest>();
+    case CellMethod::Reference: return storage.template operator()<long double, Shape::Bilinear>();
+    }
+    return false;
 }
 
 bool dispatch(const HeightGrid& g, const Ray& ray, Interval interval, CellMethod method, bool anyHit,
-              TraceCounters* counters, Traversal tr, HeightFieldHit* out, double freeUntil = -kInfinity) {
-    switch (method) {
-    case CellMethod::Bilinear:
-        return traceStorage<float, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr, out, freeUntil);
-    case CellMethod::BilinearDouble:
-        return traceStorage<double, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr, out, freeUntil);
-    case CellMethod::Triangles:
-        return traceStorage<float, Shape::Triangles>(g, ray, interval, anyHit, counters, tr, out, freeUntil);
-    case CellMethod::Nearest:
-        return traceStorage<float, Shape::Nearest>(g, ray, interval, anyHit, counters, tr, out, freeUntil);
-    case CellMethod::Reference:
-        return traceStorage<long double, Shape::Bilinear>(g, ray, interval, anyHit, counters, tr, out, freeUntil);
-    }
-    return false;
+              TraceCounters* counters, Traversal tr, HeightFieldHit* out) {
+    return withMethod(g, method, [&]<class Real, Shape shape>(const auto& at) {
+        return traceSign<Real, shape>(g, at, ray, interval, anyHit, counters, tr, out, -kInfinity);
+    });
 }
 
 // A horizontal distance R (metres) from `origin` such that every ray of `rays` (all leaving `origin`, none
@@ -673,16 +672,21 @@ void intersectBundle(const HeightGrid& grid, std::span<const Ray> rays, Interval
     for (size_t k = 0; shared && k < n; ++k)
         shared = rays[k].origin == origin && (rays[k].dir.x != 0.0 || rays[k].dir.y != 0.0);
     const double freeM = shared ? bundleFreeDistanceM(grid, origin, rays.first(n)) : 0.0;
-    for (size_t k = 0; k < n; ++k) {
-        const glm::dvec3& d = rays[k].dir;
-        // The parameter where ray k reaches the horizontal distance freeM, lowered past its rounding.
-        const double freeUntil = freeM > 0.0 ? freeM / std::sqrt(d.x * d.x + d.y * d.y) * (1.0 - 0x1p-40) : -kInfinity;
-        // Constructed in place (optional<HeightFieldHit> is trivially destructible), so storing the hit does
-        // not first branch on whatever the slot held.
-        std::construct_at(&hits[k], std::in_place);
-        if (!dispatch(grid, rays[k], interval, method, false, counters, traversal, &*hits[k], freeUntil))
-            hits[k].reset();
-    }
+    withMethod(grid, method, [&]<class Real, Shape shape>(const auto& at) {
+        for (size_t k = 0; k < n; ++k) {
+            const glm::dvec3& d = rays[k].dir;
+            // The parameter where ray k reaches the horizontal distance freeM, lowered past its rounding.
+            const double freeUntil =
+                freeM > 0.0 ? freeM / std::sqrt(d.x * d.x + d.y * d.y) * (1.0 - 0x1p-40) : -kInfinity;
+            // Constructed in place (optional<HeightFieldHit> is trivially destructible), so storing the hit does
+            // not first branch on whatever the slot held.
+            std::construct_at(&hits[k], std::in_place);
+            if (!traceSign<Real, shape>(grid, at, rays[k], interval, false, counters, traversal, &*hits[k],
+                                        freeUntil))
+                hits[k].reset();
+        }
+        return true;
+    });
 }
 
 glm::dvec3 spawnOrigin(const HeightFieldHit& hit, const glm::dvec3& dir) {

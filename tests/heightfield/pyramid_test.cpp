@@ -48,8 +48,9 @@ void requireSameHits(const HeightGrid& g, int n, uint64_t seed, bool expectSkips
             d = {std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), -std::sin(el)};
             o = glm::dvec3(g.extentXM() * U(rng), g.extentYM() * U(rng), g.minHeightM()) -
                 ((g.maxHeightM() - g.minHeightM() + 50.0) / std::sin(el)) * d;
-        } else if (k % 3 == 1) {  // nearly horizontal, across the whole grid
-            d = {std::cos(az), std::sin(az), 0.02 * (U(rng) - 0.5)};
+        } else if (k % 3 == 1) {  // nearly horizontal, across the whole grid; every other one exactly horizontal
+            const double dz = 0.02 * (U(rng) - 0.5);
+            d = {std::cos(az), std::sin(az), k % 6 == 1 ? 0.0 : dz};
             o = {g.extentXM() * U(rng), g.extentYM() * U(rng), g.minHeightM() + (g.maxHeightM() - g.minHeightM()) * U(rng)};
         } else {  // upward, from inside the box
             d = glm::normalize(glm::dvec3(U(rng) - 0.5, U(rng) - 0.5, U(rng)));
