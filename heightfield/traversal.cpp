@@ -71,7 +71,8 @@ CellCorners<Real> corners(double h00, double h10, double h01, double h11) {
 // in a fixed order and independently of the cell's base height, so both cells sharing the edge compute the
 // same bits (see cell_intersectors.h on watertightness).
 template <class Real, Shape shape, class Heights>
-Real surfaceAboveRay(const Heights& at, int64_t i, int64_t j, CellSide side, const glm::dvec3& pGrid) {
+TERRACAST_CELL_INLINE Real surfaceAboveRay(const Heights& at, int64_t i, int64_t j, CellSide side,
+                                           const glm::dvec3& pGrid) {
     using W = Wide<Real>;
     auto lerp = [](W a, W b, W w) { return (W(1) - w) * a + w * b; };
     auto frac = [](double x) { return std::clamp(W(x), W(0), W(1)); };
