@@ -134,9 +134,10 @@ double cellSkipMargin(double eps, double heightScale, double originZ) {
 // True when the ray meets the surface in `interval`; the nearest such hit is written to `out` when given
 // (occlusion queries pass none and skip building it). `freeUntil` is a ray parameter up to which the ray is
 // known to pass above every cell by more than the skip margin (see bundleFreeDistanceM), or -infinity.
-template <class Real, Shape shape, class Heights, int zSign>
+template <class Real, Shape shape, class Heights, int zSign, bool counting>
 bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval interval, bool anyHit,
            TraceCounters* counters, Traversal traversal, HeightFieldHit* out, double freeUntil) {
+    if constexpr (!counting) counters = nullptr;  // every counting branch folds away
     bool result = false;
     if (interval.empty()) return result;
     const glm::dvec3 og{ray.origin.x * g.cellsPerMetreX(), ray.origin.y * g.cellsPerMetreY(), ray.origin.z};
@@ -504,15 +505,18 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
 }
 
 // The walk is compiled once per sign of the ray's vertical direction, which its block tests and level choices
-// depend on at every step.
+// depend on at every step, and once with and once without counters, so that untallied traces test none.
 template <class Real, Shape shape, class Heights>
 bool traceSign(const HeightGrid& g, const Heights& at, const Ray& ray, Interval interval, bool anyHit,
                TraceCounters* counters, Traversal tr, HeightFieldHit* out, double freeUntil) {
-    if (ray.dir.z < 0.0)
-        return trace<Real, shape, Heights, -1>(g, at, ray, interval, anyHit, counters, tr, out, freeUntil);
-    if (ray.dir.z > 0.0)
-        return trace<Real, shape, Heights, 1>(g, at, ray, interval, anyHit, counters, tr, out, freeUntil);
-    return trace<Real, shape, Heights, 0>(g, at, ray, interval, anyHit, counters, tr, out, freeUntil);
+    auto walk = [&]<int zSign>() {
+        if (counters) return trace<Real, shape, Heights, zSign, true>(g, at, ray, interval, anyHit, counters, tr, out,
+                                                                     freeUntil);
+        return trace<Real, shape, Heights, zSign, false>(g, at, ray, interval, anyHit, nullptr, tr, out, freeUntil);
+    };
+    if (ray.dir.z < 0.0) return walk.template operator()<-1>();
+    if (ray.dir.z > 0.0) return walk.template operator()<1>();
+    return walk.template operator()<0>();
 }
 
 // Calls f.template operator()<Real, shape>(heights) with the arithmetic and cell shape of `method` and the height
