@@ -201,7 +201,7 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     // What visiting one cell found: passed over it, ran wholly below it (looking for the first crossing), tested
     // it without a hit, or hit it.
     enum class Visit { Passed, Below, Tested, Hit };
-    auto visitCell = [&](int64_t ci, int64_t cj, double tEnter, double tExit, CellSide entry, CellSide exit) {
+    auto visitCell = [&](int64_t ci, int64_t cj, double tEnter, double tExit, CellSide entry, auto exitSide) {
         if (counters) ++counters->cellsVisited;
         if (!g.cellValid(ci, cj)) {
             hasCarriedG = false;
@@ -240,7 +240,7 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
         seg.dz = Real(dg.z);
         seg.length = Real(tExit - tEnter);
         seg.gEntry = hasCarriedG ? carriedG : surfaceAboveRay<Real, shape>(at, ci, cj, entry, pEnter);
-        seg.gExit = surfaceAboveRay<Real, shape>(at, ci, cj, exit, pExit);
+        seg.gExit = surfaceAboveRay<Real, shape>(at, ci, cj, exitSide(), pExit);
         carriedG = seg.gExit;
         hasCarriedG = true;
 
@@ -327,7 +327,9 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     // over it, raised by that slack.
     const double codeZ0High = (og.z + codeSlackM) * pyramid.codesPerMetre - double(pyramid.offset);
     const double codeDz = dg.z * pyramid.codesPerMetre;
-    constexpr bool descending = zSign < 0;
+    // The sign of the vertical direction: fixed by the instantiation, or read from the ray (zSign == 2).
+    const bool descending = zSign == 2 ? dg.z < 0.0 : zSign < 0;
+    const bool rising = zSign == 2 ? dg.z > 0.0 : zSign > 0;
     const bool posX = dg.x > 0.0, posY = dg.y > 0.0;
     const double ox = og.x, oy = og.y;
     // The parameter of the boundary x = const is (x - ox) / dx, taken as x / dx - ox / dx with the reciprocal;
@@ -463,22 +465,27 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
             // usual case) it would fail again; the sibling at this level is tested instead. Under the surface
             // the same holds for a ray that does not descend.
             const bool sameParent = (i >> (level + 1)) == (bi >> 1) && (j >> (level + 1)) == (bj >> 1);
-            if (level < levels && (!sameParent || (above ? zSign > 0 : zSign < 0))) ++level;
+            if (level < levels && (!sameParent || (above ? rising : descending))) ++level;
             continue;
         }
 
         const double tNextX = exitX(i), tNextY = exitY(j);
         const bool crossX = tNextX <= tNextY;
-        const double tBoundary = crossX ? tNextX : tNextY;
+        const double tBoundary = std::min(tNextX, tNextY);  // tNextX when crossX
         const bool ends = t1 <= tBoundary;
-        const double tExit = std::max(t, ends ? t1 : tBoundary);
-        const CellSide exit = ends && t1 < tBoundary ? CellSide::Interior
-                              : crossX               ? (posX ? CellSide::XHigh : CellSide::XLow)
-                                                     : (posY ? CellSide::YHigh : CellSide::YLow);
+        const double tExit = std::max(t, std::min(tBoundary, t1));  // t1 when the walk ends in this cell
+        // The side the walk leaves the cell through, asked for only when the cell is tested.
+        auto exitSide = [&] {
+            return ends && t1 < tBoundary ? CellSide::Interior
+                   : crossX               ? (posX ? CellSide::XHigh : CellSide::XLow)
+                                          : (posY ? CellSide::YHigh : CellSide::YLow);
+        };
+        // The row a step along y reaches next is the one most likely to miss the cache (rows lie a grid width
+        // apart); ask for it while this cell is tested.
         // The row a step along y reaches next is the one most likely to miss the cache (rows lie a grid width
         // apart); ask for it while this cell is tested.
         at.prefetch(i, std::clamp(j + (posY ? 2 : -1), int64_t(0), cellsY));
-        const Visit visit = visitCell(i, j, t, tExit, entry, exit);
+        const Visit visit = visitCell(i, j, t, tExit, entry, exitSide);
         if (visit == Visit::Hit || ends) break;
         const int64_t iWas = i, jWas = j;
         if (crossX) {
@@ -496,7 +503,7 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
         // does not rise stays in the same 2 x 2 block: its lowest height there is at the block's exit, so when
         // the walk came down from that block, or met a cell of it that it could not pass, the block would fail
         // again (the usual case; otherwise only a skip is missed, never a hit).
-        if (visit == Visit::Passed && levels > 0 && (zSign > 0 || ((i ^ iWas) | (j ^ jWas)) > 1)) level = 1;
+        if (visit == Visit::Passed && levels > 0 && (rising || ((i ^ iWas) | (j ^ jWas)) > 1)) level = 1;
         // A ray running under the surface tries the minimum pyramid, which starts at level 2.
         under = visit == Visit::Below && levels >= 2;
         if (under) level = 2;
@@ -504,19 +511,28 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     return result;
 }
 
-// The walk is compiled once per sign of the ray's vertical direction, which its block tests and level choices
-// depend on at every step, and once with and once without counters, so that untallied traces test none.
+// For the float methods the walk is compiled once per sign of the ray's vertical direction, which its block
+// tests and level choices depend on at every step, and once with and once without counters, so that untallied
+// traces test none.
 template <class Real, Shape shape, class Heights>
 bool traceSign(const HeightGrid& g, const Heights& at, const Ray& ray, Interval interval, bool anyHit,
                TraceCounters* counters, Traversal tr, HeightFieldHit* out, double freeUntil) {
-    auto walk = [&]<int zSign>() {
-        if (counters) return trace<Real, shape, Heights, zSign, true>(g, at, ray, interval, anyHit, counters, tr, out,
-                                                                     freeUntil);
-        return trace<Real, shape, Heights, zSign, false>(g, at, ray, interval, anyHit, nullptr, tr, out, freeUntil);
-    };
-    if (ray.dir.z < 0.0) return walk.template operator()<-1>();
-    if (ray.dir.z > 0.0) return walk.template operator()<1>();
-    return walk.template operator()<0>();
+    // The float methods, which renders use, are compiled for each case; the others (reference arithmetic and
+    // the naive flat cells) once, reading the sign and the counters at run time.
+    if constexpr (!std::is_same_v<Real, float> || shape == Shape::Nearest) {
+        return trace<Real, shape, Heights, 2, true>(g, at, ray, interval, anyHit, counters, tr, out, freeUntil);
+    } else {
+        auto walk = [&]<int zSign>() {
+            if (counters)
+                return trace<Real, shape, Heights, zSign, true>(g, at, ray, interval, anyHit, counters, tr, out,
+                                                                freeUntil);
+            return trace<Real, shape, Heights, zSign, false>(g, at, ray, interval, anyHit, nullptr, tr, out,
+                                                             freeUntil);
+        };
+        if (ray.dir.z < 0.0) return walk.template operator()<-1>();
+        if (ray.dir.z > 0.0) return walk.template operator()<1>();
+        return walk.template operator()<0>();
+    }
 }
 
 // Calls f.template operator()<Real, shape>(heights) with the arithmetic and cell shape of `method` and the height
