@@ -134,6 +134,8 @@ double cellSkipMargin(double eps, double heightScale, double originZ) {
 // True when the ray meets the surface in `interval`; the nearest such hit is written to `out` when given
 // (occlusion queries pass none and skip building it). `freeUntil` is a ray parameter up to which the ray is
 // known to pass above every cell by more than the skip margin (see bundleFreeDistanceM), or -infinity.
+// zSign is the sign of ray.dir.z (-1, 0 or 1; 0 also for -0.0), or 2 to read it from the ray; the block tests
+// and level choices rely on it. Without `counting`, counters are ignored.
 template <class Real, Shape shape, class Heights, int zSign, bool counting>
 bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval interval, bool anyHit,
            TraceCounters* counters, Traversal traversal, HeightFieldHit* out, double freeUntil) {
@@ -142,7 +144,8 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     if (interval.empty()) return result;
     const glm::dvec3 og{ray.origin.x * g.cellsPerMetreX(), ray.origin.y * g.cellsPerMetreY(), ray.origin.z};
     const glm::dvec3 dg{ray.dir.x * g.cellsPerMetreX(), ray.dir.y * g.cellsPerMetreY(), ray.dir.z};
-    // A zero direction (or a NaN in it) fails the first test, an infinite or NaN coordinate the second.
+    // A zero direction (or a NaN in it) fails the first test; an infinite or NaN coordinate, or magnitudes near
+    // the largest double whose sum overflows, the second.
     const double dirSize = std::abs(dg.x) + std::abs(dg.y) + std::abs(dg.z);
     if (!(dirSize > 0.0) || !std::isfinite(og.x + og.y + og.z + dirSize)) return result;
     // The direction's reciprocals, 0 along an axis the ray does not move along. A component so small that its
@@ -482,8 +485,6 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
         };
         // The row a step along y reaches next is the one most likely to miss the cache (rows lie a grid width
         // apart); ask for it while this cell is tested.
-        // The row a step along y reaches next is the one most likely to miss the cache (rows lie a grid width
-        // apart); ask for it while this cell is tested.
         at.prefetch(i, std::clamp(j + (posY ? 2 : -1), int64_t(0), cellsY));
         const Visit visit = visitCell(i, j, t, tExit, entry, exitSide);
         if (visit == Visit::Hit || ends) break;
@@ -511,14 +512,14 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     return result;
 }
 
-// For the float methods the walk is compiled once per sign of the ray's vertical direction, which its block
-// tests and level choices depend on at every step, and once with and once without counters, so that untallied
-// traces test none.
+// For bilinear and triangles in float, the walk is compiled once per sign of the ray's vertical direction,
+// which its block tests and level choices depend on at every step, and once with and once without counters, so
+// that untallied traces test none.
 template <class Real, Shape shape, class Heights>
 bool traceSign(const HeightGrid& g, const Heights& at, const Ray& ray, Interval interval, bool anyHit,
                TraceCounters* counters, Traversal tr, HeightFieldHit* out, double freeUntil) {
-    // The float methods, which renders use, are compiled for each case; the others (reference arithmetic and
-    // the naive flat cells) once, reading the sign and the counters at run time.
+    // Bilinear and triangles in float, which renders use, are compiled for each case; the others (the double and
+    // reference arithmetic, and the naive flat cells) once, reading the sign and the counters at run time.
     if constexpr (!std::is_same_v<Real, float> || shape == Shape::Nearest) {
         return trace<Real, shape, Heights, 2, true>(g, at, ray, interval, anyHit, counters, tr, out, freeUntil);
     } else {
@@ -693,7 +694,7 @@ void intersectBundle(const HeightGrid& grid, std::span<const Ray> rays, Interval
     for (size_t k = 0; shared && k < n; ++k)
         shared = rays[k].origin == origin && (rays[k].dir.x != 0.0 || rays[k].dir.y != 0.0);
     const double freeM = shared ? bundleFreeDistanceM(grid, origin, rays.first(n)) : 0.0;
-    withMethod(grid, method, [&]<class Real, Shape shape>(const auto& at) {
+    const bool traced = withMethod(grid, method, [&]<class Real, Shape shape>(const auto& at) {
         for (size_t k = 0; k < n; ++k) {
             const glm::dvec3& d = rays[k].dir;
             // The parameter where ray k reaches the horizontal distance freeM, lowered past its rounding.
@@ -708,6 +709,8 @@ void intersectBundle(const HeightGrid& grid, std::span<const Ray> rays, Interval
         }
         return true;
     });
+    if (!traced)  // not a method: no hits, as intersect gives
+        for (size_t k = 0; k < n; ++k) hits[k].reset();
 }
 
 glm::dvec3 spawnOrigin(const HeightFieldHit& hit, const glm::dvec3& dir) {

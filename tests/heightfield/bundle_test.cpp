@@ -7,8 +7,11 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <array>
+#include <optional>
 #include <random>
+#include <vector>
 
 using namespace terracast;
 using namespace terracast::testing;
@@ -269,4 +272,22 @@ TEST_CASE("Ray bundles that cannot share a proof are traced ray by ray", "[heigh
     }
     CHECK(flatCounters.cellsVisited == singleCounters.cellsVisited);
     CHECK(flatCounters.blocksSkipped == 0);
+}
+
+TEST_CASE("A bundle traced with a value that names no cell method gets no hits, as a single ray does",
+          "[heightfield][bundle]") {
+    FractalTerrainOptions fractal;
+    fractal.size = 33;
+    const HeightGrid g = fractalTerrain(fractal);
+    const double relief = double(g.maxHeightM()) - g.minHeightM();
+    const glm::dvec3 eye{-0.2 * g.extentXM(), -0.2 * g.extentYM(), g.maxHeightM() + 0.5 * relief};
+    const auto rays = fan(eye, glm::dvec3(0.5 * g.extentXM(), 0.5 * g.extentYM(), g.minHeightM()) - eye, 2.0);
+    // The slots first hold the hits of a real method, so a bundle that wrote nothing would keep them.
+    std::vector<std::optional<HeightFieldHit>> hits(rays.size());
+    intersectBundle(g, rays, {0.0, kInfinity}, CellMethod::Bilinear, hits);
+    REQUIRE(std::count_if(hits.begin(), hits.end(), [](const auto& h) { return h.has_value(); }) > 0);
+    const auto notAMethod = static_cast<CellMethod>(99);
+    intersectBundle(g, rays, {0.0, kInfinity}, notAMethod, hits);
+    for (const auto& h : hits) CHECK_FALSE(h.has_value());
+    CHECK_FALSE(intersect(g, rays.front(), {0.0, kInfinity}, notAMethod).has_value());
 }
