@@ -228,8 +228,7 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
             hasCarriedG = false;
             return Visit::Below;
         }
-        const double h00 = f00, h10 = f10, h01 = f01, h11 = f11;
-        const auto h = corners<Real>(h00, h10, h01, h11);  // the heights read for the tests above
+        const auto h = corners<Real>(f00, f10, f01, f11);  // the heights read for the tests above
         if (counters) ++counters->cellsTested;
 
         const glm::dvec3 pEnter{og.x + tEnter * dg.x, og.y + tEnter * dg.y, zEnter};
@@ -237,7 +236,7 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
         CellSegment<Real> seg;
         seg.u0 = std::clamp(Real(pEnter.x - double(ci)), Real(0), Real(1));
         seg.v0 = std::clamp(Real(pEnter.y - double(cj)), Real(0), Real(1));
-        seg.z0 = Real(Wide<Real>(zEnter) - Wide<Real>(h00));
+        seg.z0 = Real(Wide<Real>(zEnter) - Wide<Real>(f00));
         seg.du = Real(dg.x);
         seg.dv = Real(dg.y);
         seg.dz = Real(dg.z);
@@ -512,14 +511,13 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     return result;
 }
 
-// For bilinear and triangles in float, the walk is compiled once per sign of the ray's vertical direction,
-// which its block tests and level choices depend on at every step, and once with and once without counters, so
-// that untallied traces test none.
+// For bilinear and triangles in float, which renders use, the walk is compiled once per sign of the ray's
+// vertical direction (its block tests and level choices depend on it at every step), and once with and once
+// without counters, so that untallied traces test none. The other methods (double and reference arithmetic, the
+// naive flat cells) are compiled once and read the sign and the counters at run time.
 template <class Real, Shape shape, class Heights>
 bool traceSign(const HeightGrid& g, const Heights& at, const Ray& ray, Interval interval, bool anyHit,
                TraceCounters* counters, Traversal tr, HeightFieldHit* out, double freeUntil) {
-    // Bilinear and triangles in float, which renders use, are compiled for each case; the others (the double and
-    // reference arithmetic, and the naive flat cells) once, reading the sign and the counters at run time.
     if constexpr (!std::is_same_v<Real, float> || shape == Shape::Nearest) {
         return trace<Real, shape, Heights, 2, true>(g, at, ray, interval, anyHit, counters, tr, out, freeUntil);
     } else {
