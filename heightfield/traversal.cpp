@@ -570,7 +570,7 @@ bool dispatch(const HeightGrid& g, const Ray& ray, Interval interval, CellMethod
 // being the bundle's lowest slope (rise per horizontal metre), and every ray's footprint lies in the box
 // that the extreme unit horizontal directions span between the two distances. The stretch is proved when the
 // blocks covering that box all lie below that height; the step doubles after a proof and halves after a
-// failure, down to one cell.
+// failure, down to half a cell.
 double bundleFreeDistanceM(const HeightGrid& g, const glm::dvec3& origin, std::span<const Ray> rays) {
     const int levels = g.pyramidLevels();
     if (levels == 0 || rays.empty()) return 0.0;
@@ -601,13 +601,18 @@ double bundleFreeDistanceM(const HeightGrid& g, const glm::dvec3& origin, std::s
     const double rEnd = std::hypot(farX, farY) + 2.0 * cellM;
     const int64_t cellsX = g.cellsX(), cellsY = g.cellsY();
 
-    // True when every block covering the cells within one cell of the box [lo, hi] (metres) lies below zLimit.
+    // True when every block covering the cells under the box [lo, hi] (metres) lies below zLimit. The box is
+    // widened by a sixteenth of a cell, far more than the rounding of its corners and of the rays' own cell
+    // coordinates, so a point on a cell boundary counts in both cells. The blocks are taken at the finest level
+    // on which the cells span at most three blocks per axis.
     auto blocksBelow = [&](glm::dvec2 lo, glm::dvec2 hi, double zLimit) {
         auto cellRange = [](double a, double b, double perMetre, int64_t cells, int64_t& c0, int64_t& c1) {
-            const double x0 = std::max(a * perMetre - 1.0, 0.0), x1 = std::min(b * perMetre + 1.0, double(cells - 1));
-            if (!(x0 <= x1)) return false;
-            c0 = static_cast<int64_t>(x0);
-            c1 = static_cast<int64_t>(x1);
+            const double x0 = a * perMetre, x1 = b * perMetre;
+            const double pad = 0x1p-4 + 0x1p-40 * std::max(std::abs(x0), std::abs(x1));
+            const double last = double(cells - 1);
+            if (!(x1 + pad >= 0.0 && x0 - pad < double(cells))) return false;
+            c0 = static_cast<int64_t>(std::clamp(x0 - pad, 0.0, last));
+            c1 = static_cast<int64_t>(std::clamp(x1 + pad, 0.0, last));
             return true;
         };
         int64_t cx0 = 0, cx1 = 0, cy0 = 0, cy1 = 0;
@@ -615,7 +620,7 @@ double bundleFreeDistanceM(const HeightGrid& g, const glm::dvec3& origin, std::s
             !cellRange(lo.y, hi.y, g.cellsPerMetreY(), cellsY, cy0, cy1))
             return true;  // no cell under the box
         int k = 1;
-        while (k < levels && (((cx1 >> k) - (cx0 >> k)) > 1 || ((cy1 >> k) - (cy0 >> k)) > 1)) ++k;
+        while (k < levels && (((cx1 >> k) - (cx0 >> k)) > 2 || ((cy1 >> k) - (cy0 >> k)) > 2)) ++k;
         for (int64_t bj = cy0 >> k; bj <= (cy1 >> k); ++bj)
             for (int64_t bi = cx0 >> k; bi <= (cx1 >> k); ++bi)
                 if (!(pyramid.blockMaxM(k, bi, bj) < zLimit)) return false;
@@ -640,7 +645,7 @@ double bundleFreeDistanceM(const HeightGrid& g, const glm::dvec3& origin, std::s
         if (free) {
             r = rb;
             step *= 2.0;
-        } else if (step <= cellM) {
+        } else if (step <= 0.5 * cellM) {
             break;
         } else {
             step *= 0.5;
@@ -688,13 +693,39 @@ void intersectBundle(const HeightGrid& grid, std::span<const Ray> rays, Interval
     const size_t n = std::min(rays.size(), hits.size());
     if (n == 0) return;
     const glm::dvec3 origin = rays[0].origin;
-    bool shared = traversal == Traversal::Pyramid && n > 1;
-    for (size_t k = 0; shared && k < n; ++k)
-        shared = rays[k].origin == origin && (rays[k].dir.x != 0.0 || rays[k].dir.y != 0.0);
+    bool sameOrigin = true, noneVertical = true;
+    for (size_t k = 0; k < n; ++k) {
+        sameOrigin = sameOrigin && rays[k].origin == origin;
+        noneVertical = noneVertical && (rays[k].dir.x != 0.0 || rays[k].dir.y != 0.0);
+    }
+    const bool shared = traversal == Traversal::Pyramid && n > 1 && sameOrigin && noneVertical;
     const double freeM = shared ? bundleFreeDistanceM(grid, origin, rays.first(n)) : 0.0;
+    // Rays from a shared origin are first tested against the grid's box, relative to that origin, widened by a
+    // cell on each side, by ten times the vertical padding trace clips with, and by 2^-30 of the origin's
+    // magnitude: far more than this test's rounding. A ray that misses it has no hit, and trace would have
+    // walked nothing and counted nothing; camera rays towards the sky or past the grid's sides cost a few
+    // products instead of trace's setup. Non-finite values give NaNs, which never reject.
+    const double padM = 0x1p-30 * (std::abs(origin.x) + std::abs(origin.y) + std::abs(origin.z));
+    const double zPadM = 1e-5 * (1.0 + std::max(std::abs(grid.minHeightM()), std::abs(grid.maxHeightM()))) + padM;
+    const glm::dvec3 boxLo =
+        glm::dvec3(-grid.cellSizeXM() - padM, -grid.cellSizeYM() - padM, double(grid.minHeightM()) - zPadM) - origin;
+    const glm::dvec3 boxHi = glm::dvec3(grid.extentXM() + grid.cellSizeXM() + padM,
+                                        grid.extentYM() + grid.cellSizeYM() + padM,
+                                        double(grid.maxHeightM()) + zPadM) - origin;
+    auto missesBox = [&](const glm::dvec3& d) {
+        const glm::dvec3 inv = 1.0 / d;
+        const glm::dvec3 a = boxLo * inv, b = boxHi * inv;
+        const double ta = std::max({interval.lo, std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)});
+        const double tb = std::min({interval.hi, std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)});
+        return ta > tb;
+    };
     const bool traced = withMethod(grid, method, [&]<class Real, Shape shape>(const auto& at) {
         for (size_t k = 0; k < n; ++k) {
             const glm::dvec3& d = rays[k].dir;
+            if (sameOrigin && missesBox(d)) {
+                hits[k].reset();
+                continue;
+            }
             // The parameter where ray k reaches the horizontal distance freeM, lowered past its rounding.
             const double freeUntil =
                 freeM > 0.0 ? freeM / std::sqrt(d.x * d.x + d.y * d.y) * (1.0 - 0x1p-40) : -kInfinity;

@@ -222,6 +222,59 @@ TEST_CASE("Ray bundles entering through a side face resume past the first cell o
     CHECK(work.hits > work.rays * 9 / 10);
 }
 
+TEST_CASE("Ray bundles that only just reach the grid get the hits of single rays", "[heightfield][bundle]") {
+    // Flat ground with one 100 m vertex in the middle. Bundles from one origin high above and outside a side
+    // aim at ground points a billionth to half a cell inside (and as far outside) that side; level bundles from far
+    // off aim at the peak's vertical, a millionth of a metre to two centimetres under its top. A bundle first sets aside the rays
+    // that miss the grid's box: none of these may be set aside wrongly, and most of them hit.
+    constexpr int64_t kSize = 17;
+    constexpr double kCell = 10.0;
+    std::vector<float> ground(kSize * kSize, 0.0f);
+    ground[(kSize / 2) * kSize + kSize / 2] = 100.0f;
+    const HeightGrid g(kSize, kSize, kCell, kCell, ground);
+    const double ex = g.extentXM(), ey = g.extentYM();
+    Work edges;
+    for (double inside : {1e-9, 1e-6, 1e-3, 0.1, 0.5}) {
+        for (double sign : {1.0, -1.0}) {
+            const double d = sign * inside * kCell;  // metres inside the side (outside when negative)
+            // Per side: an origin 20 cells out and a kilometre up, and the ground points along that side. Such a
+            // ray enters the grid's box only within d of the side.
+            const std::array<std::pair<glm::dvec3, glm::dvec2>, 4> sides{{
+                {{-20.0 * kCell, 0.5 * ey, 1000.0}, {d, 0.0}},
+                {{ex + 20.0 * kCell, 0.5 * ey, 1000.0}, {ex - d, 0.0}},
+                {{0.5 * ex, -20.0 * kCell, 1000.0}, {0.0, d}},
+                {{0.5 * ex, ey + 20.0 * kCell, 1000.0}, {0.0, ey - d}},
+            }};
+            for (const auto& [origin, fixed] : sides) {
+                std::vector<Ray> rays;
+                for (int k = 0; k < 16; ++k) {
+                    const double along = (k + 0.5) / 16.0;
+                    const glm::dvec2 p = fixed.y == 0.0 ? glm::dvec2(fixed.x, along * ey) : glm::dvec2(along * ex, fixed.y);
+                    rays.push_back(Ray{origin, glm::normalize(glm::dvec3(p.x, p.y, 0.0) - origin)});
+                }
+                Work work;
+                requireSameAsSingle(g, rays, {0.0, kInfinity}, work);
+                if (sign > 0) CHECK(work.hits == work.rays);
+                edges.rays += work.rays;
+                edges.hits += work.hits;
+            }
+        }
+    }
+    CHECK(edges.hits < edges.rays);  // some aimed outside do miss
+    const glm::dvec3 peak{0.5 * ex, 0.5 * ey, 100.0};
+    Work level;
+    for (double under : {1e-6, 1e-4, 1e-2}) {
+        const glm::dvec3 origin{-3.0 * ex, 0.3 * ey, 100.0 - under};
+        std::vector<Ray> rays;
+        for (int k = 0; k < 16; ++k) {
+            const glm::dvec3 target = peak - glm::dvec3(0.0, 0.0, under * (1.0 + k / 16.0));
+            rays.push_back(Ray{origin, glm::normalize(target - origin)});
+        }
+        requireSameAsSingle(g, rays, {0.0, kInfinity}, level);
+    }
+    CHECK(level.hits == level.rays);
+}
+
 TEST_CASE("Ray bundles that cannot share a proof are traced ray by ray", "[heightfield][bundle]") {
     FractalTerrainOptions fractal;
     fractal.size = 129;
