@@ -1239,16 +1239,17 @@ int runBench(const BenchCommandOptions& o) {
 
         fmt::print("terracast bench: {} x {} camera rays per view (corner: south-west, 30 degrees down; grazing: above "
                    "the highest peak, 8 degrees down), sun at azimuth {:g}, elevation {:g} degrees, one shadow ray per "
-                   "hit facing it; {} thread{} ({}); FTZ/DAZ on for every method; fastest of {} trace{} per pass, "
-                   "taken in turn with the other methods, after one untimed\n",
+                   "hit facing it; {} thread{} ({}); FTZ/DAZ on for every method; direct kernels: {}; fastest of {} "
+                   "trace{} per pass, taken in turn with the other methods, after one untimed\n",
                    settings.width, settings.height, settings.sunAzimuthDeg, settings.sunElevationDeg,
-                   most > 1 ? fmt::format("1 and {}", most) : "1", most > 1 ? "s" : "", machine, settings.repeat,
-                   settings.repeat == 1 ? "" : "s");
+                   most > 1 ? fmt::format("1 and {}", most) : "1", most > 1 ? "s" : "", machine,
+                   kernelIsaName(kernelIsa()), settings.repeat, settings.repeat == 1 ? "" : "s");
         std::string json = fmt::format("{{\"image_width\": {}, \"image_height\": {}, \"sun_azimuth_deg\": {}, "
-                                       "\"sun_elevation_deg\": {}, \"cpu\": {}, \"hardware_threads\": {}, \"threads\": [{}], "
-                                       "\"repeat\": {},\n \"grids\": [",
+                                       "\"sun_elevation_deg\": {}, \"cpu\": {}, \"hardware_threads\": {}, "
+                                       "\"kernels\": {}, \"threads\": [{}], \"repeat\": {},\n \"grids\": [",
                                        settings.width, settings.height, jsonNumber(settings.sunAzimuthDeg),
                                        jsonNumber(settings.sunElevationDeg), jsonString(cpu), hardware,
+                                       jsonString(kernelIsaName(kernelIsa())),
                                        most > 1 ? fmt::format("1, {}", most) : "1", settings.repeat);
         std::vector<BenchGridResult> plotted;  // the synthetic grids measured, for --svg
         const auto start = std::chrono::steady_clock::now();

@@ -86,6 +86,18 @@ void intersectBundle(const HeightGrid& grid, std::span<const Ray> rays, Interval
 // on (pbrt-v4's conservative ray-origin offset).
 glm::dvec3 spawnOrigin(const HeightFieldHit& hit, const glm::dvec3& dir);
 
+// The instruction sets the tracing functions above are compiled for: baseline x86-64, and AVX2 with BMI2 (GCC
+// on x86-64). Both round every operation alike and return the same bits; the wider one is used when the
+// processor has it.
+enum class KernelIsa { Baseline, Avx2 };
+// The instruction set in use.
+KernelIsa kernelIsa();
+// Chooses the instruction set (for tests and benchmarks; not while rays are being traced). False, changing
+// nothing, when this build or this processor lacks it.
+bool setKernelIsa(KernelIsa isa);
+// "baseline x86-64" or "avx2".
+const char* kernelIsaName(KernelIsa isa);
+
 // The tolerance in metres below which `intersect` flags a graze as ambiguous for this grid.
 double grazingToleranceM(const HeightGrid& grid);
 

@@ -2,6 +2,7 @@
 // both cameras, finite positive rates, ratios to Embree's own pass), grids over --max-memory are reported as
 // skipped without being made, bad options are refused with one line and exit 2, --svg draws the rates that
 // the report gives, and --file-to-picture times `render` from a PNG height map with both tracers.
+#include "heightfield/traversal.h"
 #include "support/json.h"
 #include "support/run_command.h"
 #include "support/temp_dir.h"
@@ -89,6 +90,10 @@ TEST_CASE("CLI: bench on a 65 x 65 grid reports every method on both cameras", "
     CHECK(doc["image_height"].number == 768);
     CHECK(doc["sun_elevation_deg"].number == 20);
     CHECK(doc["cpu"].type == JsonValue::Type::String);
+    // The direct kernels' instruction set, as the library reports it, in the JSON and the header line.
+    CHECK(doc["kernels"].string == terracast::kernelIsaName(terracast::kernelIsa()));
+    CHECK(r.out.find(std::string("direct kernels: ") + terracast::kernelIsaName(terracast::kernelIsa())) !=
+          std::string::npos);
     CHECK(doc["file_to_picture"].type == JsonValue::Type::Null);  // only with --file-to-picture
     REQUIRE(doc["threads"].array.size() == 1);
     CHECK(doc["threads"][0].number == 1);
