@@ -70,9 +70,9 @@ std::atomic<KernelIsa>& currentIsa() {
     return isa;
 }
 
-bool useAvx2() {
-    return TERRACAST_AVX2_KERNELS && currentIsa().load(std::memory_order_relaxed) == KernelIsa::Avx2;
-}
+#if TERRACAST_AVX2_KERNELS
+bool useAvx2() { return currentIsa().load(std::memory_order_relaxed) == KernelIsa::Avx2; }
+#endif
 
 bool dispatch(const HeightGrid& g, const Ray& ray, Interval interval, CellMethod method, bool anyHit,
               TraceCounters* counters, Traversal tr, HeightFieldHit* out) {
@@ -110,7 +110,7 @@ bool setKernelIsa(KernelIsa isa) {
     return true;
 }
 
-const char* kernelIsaName(KernelIsa isa) { return isa == KernelIsa::Avx2 ? "avx2" : "baseline x86-64"; }
+const char* kernelIsaName(KernelIsa isa) { return isa == KernelIsa::Avx2 ? "avx2" : "baseline"; }
 
 std::optional<HeightFieldHit> intersect(const HeightGrid& grid, const Ray& ray, Interval interval, CellMethod method,
                                         TraceCounters* counters, Traversal traversal) {

@@ -95,7 +95,7 @@ KernelIsa kernelIsa();
 // Chooses the instruction set (for tests and benchmarks; not while rays are being traced). False, changing
 // nothing, when this build or this processor lacks it.
 bool setKernelIsa(KernelIsa isa);
-// "baseline x86-64" or "avx2".
+// "baseline" or "avx2".
 const char* kernelIsaName(KernelIsa isa);
 
 // The tolerance in metres below which `intersect` flags a graze as ambiguous for this grid.

@@ -644,12 +644,13 @@ void traceBundle(const HeightGrid& grid, std::span<const Ray> rays, Interval int
         noneVertical = noneVertical && (rays[k].dir.x != 0.0 || rays[k].dir.y != 0.0);
     }
     const bool shared = traversal == Traversal::Pyramid && n > 1 && sameOrigin && noneVertical;
-    const double freeM = shared ? bundleFreeDistanceM(grid, origin, rays.first(n)) : 0.0;
+    // The proof covers the rays ahead of the origin only: an interval reaching behind it walks from its start.
+    const double freeM = shared && interval.lo >= 0.0 ? bundleFreeDistanceM(grid, origin, rays.first(n)) : 0.0;
     // Rays from a shared origin are first tested against the grid's box, relative to that origin, widened by a
     // cell on each side, by ten times the vertical padding trace clips with, and by 2^-30 of the origin's
     // magnitude: far more than this test's rounding. A ray that misses it has no hit, and trace would have
     // walked nothing and counted nothing; camera rays towards the sky or past the grid's sides cost a few
-    // products instead of trace's setup. Non-finite values give NaNs, which never reject.
+    // products instead of trace's setup. A NaN bound never rejects; rays this test rejects for infinite values trace rejects too.
     const double padM = 0x1p-30 * (std::abs(origin.x) + std::abs(origin.y) + std::abs(origin.z));
     const double zPadM = 1e-5 * (1.0 + std::max(std::abs(grid.minHeightM()), std::abs(grid.maxHeightM()))) + padM;
     const glm::dvec3 boxLo =

@@ -275,6 +275,27 @@ TEST_CASE("Ray bundles that only just reach the grid get the hits of single rays
     CHECK(level.hits == level.rays);
 }
 
+TEST_CASE("Ray bundles whose interval reaches behind the origin get the hits of single rays", "[heightfield][bundle]") {
+    // Rays pointing up and away from above the terrain, with an interval that starts far behind the origin: their
+    // hits lie behind it, where the bundle's proof (ahead of the origin only) says nothing.
+    FractalTerrainOptions fractal;
+    fractal.size = 65;
+    const HeightGrid g = fractalTerrain(fractal);
+    std::mt19937_64 rng(60);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    Work work;
+    for (int b = 0; b < 20; ++b) {
+        const glm::dvec3 origin{g.extentXM() * (0.3 + 0.4 * U(rng)), g.extentYM() * (0.3 + 0.4 * U(rng)),
+                                g.maxHeightM() + 20.0 + 200.0 * U(rng)};
+        const double az = 2.0 * M_PI * U(rng), el = (20.0 + 60.0 * U(rng)) * M_PI / 180.0;
+        const glm::dvec3 up{std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), std::sin(el)};
+        const auto rays = fan(origin, up, 1.0 + 5.0 * U(rng));
+        requireSameAsSingle(g, rays, {-1e7, kInfinity}, work);
+        requireSameAsSingle(g, rays, {-1e7, 1e7}, work);
+    }
+    CHECK(work.hits > work.rays / 2);
+}
+
 TEST_CASE("Ray bundles that cannot share a proof are traced ray by ray", "[heightfield][bundle]") {
     FractalTerrainOptions fractal;
     fractal.size = 129;
