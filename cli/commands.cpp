@@ -1233,6 +1233,7 @@ int runBench(const BenchCommandOptions& o) {
         const double passBytes = double(settings.width) * settings.height *
                                  double(sizeof(std::optional<HeightFieldHit>) + sizeof(glm::dvec3) + 1 + 12 + 8 + 8);
         const bool terminal = isatty(fileno(stderr));
+        const char* kernels = kernelIsaName(kernelIsa());
         const std::string cpu = cpuModelName();
         const std::string machine = fmt::format("{}{} hardware thread{}", cpu.empty() ? "" : cpu + ", ", hardware,
                                                 hardware == 1 ? "" : "s");
@@ -1243,13 +1244,13 @@ int runBench(const BenchCommandOptions& o) {
                    "trace{} per pass, taken in turn with the other methods, after one untimed\n",
                    settings.width, settings.height, settings.sunAzimuthDeg, settings.sunElevationDeg,
                    most > 1 ? fmt::format("1 and {}", most) : "1", most > 1 ? "s" : "", machine,
-                   kernelIsaName(kernelIsa()), settings.repeat, settings.repeat == 1 ? "" : "s");
+                   kernels, settings.repeat, settings.repeat == 1 ? "" : "s");
         std::string json = fmt::format("{{\"image_width\": {}, \"image_height\": {}, \"sun_azimuth_deg\": {}, "
                                        "\"sun_elevation_deg\": {}, \"cpu\": {}, \"hardware_threads\": {}, "
                                        "\"kernels\": {}, \"threads\": [{}], \"repeat\": {},\n \"grids\": [",
                                        settings.width, settings.height, jsonNumber(settings.sunAzimuthDeg),
                                        jsonNumber(settings.sunElevationDeg), jsonString(cpu), hardware,
-                                       jsonString(kernelIsaName(kernelIsa())),
+                                       jsonString(kernels),
                                        most > 1 ? fmt::format("1, {}", most) : "1", settings.repeat);
         std::vector<BenchGridResult> plotted;  // the synthetic grids measured, for --svg
         const auto start = std::chrono::steady_clock::now();

@@ -108,6 +108,12 @@ double cellSkipMargin(double eps, double heightScale, double originZ) {
     return 8.0 * eps * (heightScale + std::abs(originZ)) + 1e-30;
 }
 
+// The padding of the z slab a ray is clipped to, so that a flat grid (lowest height = highest) still gives a
+// segment of non-zero length.
+double zSlabPadM(const HeightGrid& g) {
+    return 1e-6 * (1.0 + std::max(std::abs(g.minHeightM()), std::abs(g.maxHeightM())));
+}
+
 // True when the ray meets the surface in `interval`; the nearest such hit is written to `out` when given
 // (occlusion queries pass none and skip building it). `freeUntil` is a ray parameter up to which the ray is
 // known to pass above every cell by more than the skip margin (see bundleFreeDistanceM), or -infinity.
@@ -146,9 +152,9 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
         return ta <= tb;
     };
 
-    // The z slab is padded so a flat grid (zmin == zmax) still yields a segment of non-zero length.
+    // The z slab, padded (see zSlabPadM).
     const double zLo = g.minHeightM(), zHi = g.maxHeightM();
-    const double zPad = 1e-6 * (1.0 + std::max(std::abs(zLo), std::abs(zHi)));
+    const double zPad = zSlabPadM(g);
     double t0 = interval.lo, t1 = interval.hi;
     if (!clip(og.z, movesZ, invZ, zLo - zPad, zHi + zPad, t0, t1)) return result;
     if (!std::isfinite(t0) || !std::isfinite(t1)) {
@@ -652,7 +658,7 @@ void traceBundle(const HeightGrid& grid, std::span<const Ray> rays, Interval int
     // walked nothing and counted nothing; camera rays towards the sky or past the grid's sides cost a few
     // products instead of trace's setup. A NaN bound never rejects; rays this test rejects for infinite values trace rejects too.
     const double padM = 0x1p-30 * (std::abs(origin.x) + std::abs(origin.y) + std::abs(origin.z));
-    const double zPadM = 1e-5 * (1.0 + std::max(std::abs(grid.minHeightM()), std::abs(grid.maxHeightM()))) + padM;
+    const double zPadM = 10.0 * zSlabPadM(grid) + padM;
     const glm::dvec3 boxLo =
         glm::dvec3(-grid.cellSizeXM() - padM, -grid.cellSizeYM() - padM, double(grid.minHeightM()) - zPadM) - origin;
     const glm::dvec3 boxHi = glm::dvec3(grid.extentXM() + grid.cellSizeXM() + padM,
