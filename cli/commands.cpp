@@ -1241,7 +1241,7 @@ int runBench(const BenchCommandOptions& o) {
         fmt::print("terracast bench: {} x {} camera rays per view (corner: south-west, 30 degrees down; grazing: above "
                    "the highest peak, 8 degrees down), sun at azimuth {:g}, elevation {:g} degrees, one shadow ray per "
                    "hit facing it; {} thread{} ({}); FTZ/DAZ on for every method; direct kernels: {}; fastest of {} "
-                   "trace{} per pass, taken in turn with the other methods, after one untimed\n",
+                   "trace{} per pass, taken in turn with the other methods in alternating order, after one untimed\n",
                    settings.width, settings.height, settings.sunAzimuthDeg, settings.sunElevationDeg,
                    most > 1 ? fmt::format("1 and {}", most) : "1", most > 1 ? "s" : "", machine,
                    kernels, settings.repeat, settings.repeat == 1 ? "" : "s");

@@ -185,7 +185,8 @@ BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& s) {
                     // Rates and hit distances only. The fastest of each method's repetitions is kept, for every
                     // method alike. The first trace's hit distances give the agreement; each trace's buffers go
                     // before the next one. One untimed trace per method first, so that every method's timed
-                    // traces start with the threads awake.
+                    // traces start with the threads awake. The rounds alternate their order (a, b, c, then c, b,
+                    // a, ...), so that no method always follows the same one, nor always runs first or last.
                     for (const auto& [k, surface] : built) {
                         out.methods[k].passes.push_back({.camera = camera, .threads = threads});
                         if (s.onStep)
@@ -193,7 +194,8 @@ BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& s) {
                         (void)traceSurface(grid, *surface, rs, false);
                     }
                     for (int rep = 0; rep < std::max(1, s.repeat); ++rep)
-                        for (const auto& [k, surface] : built) {
+                        for (size_t q = 0; q < built.size(); ++q) {
+                            const auto& [k, surface] = built[rep % 2 == 0 ? q : built.size() - 1 - q];
                             BenchMethodResult& r = out.methods[k];
                             if (s.onStep) s.onStep(std::string(benchMethodName(r.method)) + ", " + passName);
                             const MethodComparison m = traceSurface(grid, *surface, rs, false);

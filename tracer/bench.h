@@ -86,7 +86,7 @@ struct BenchSettings {
     double sunAzimuthDeg = 315.0;                       // clockwise from north
     double sunElevationDeg = 20.0;                      // above the horizon
     std::vector<int> threadCounts{1, 2};                // each pass is run at each of these
-    int repeat = 3;  // each pass is traced this many times, after one untimed trace, and its fastest primary and
+    int repeat = 5;  // each pass is traced this many times, after one untimed trace, and its fastest primary and
                      // shadow times are kept
     std::vector<BenchCamera> cameras{BenchCamera::Corner, BenchCamera::Grazing};
     std::vector<BenchMethod> methods = benchMethods();  // measured in this order

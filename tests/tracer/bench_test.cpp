@@ -1,6 +1,6 @@
 // The bench library: denormals are flushed on every thread that traces, the grazing camera stands just above
 // the highest peak looking 8 degrees down, a grid's report holds every method, refused ones as skipped, and
-// each pass's traces go round the methods in turn.
+// each pass's traces go round the methods in turn, in alternating order.
 #include "heightfield/fractal_terrain.h"
 #include "tracer/bench.h"
 
@@ -112,7 +112,8 @@ TEST_CASE("bench: one grid, every method, refused methods skipped, ratios to Emb
     for (size_t q = 0; q < 4; ++q) CHECK(r.methods[0].passes[q].shadowRays == r.methods[1].passes[q].shadowRays);
 }
 
-TEST_CASE("bench: a pass's traces go round the methods in turn, Embree's grid geometry in a group of its own",
+TEST_CASE("bench: a pass's traces go round the methods in turn, in alternating order, Embree's grid geometry in a "
+          "group of its own",
           "[tracer][bench]") {
     FractalTerrainOptions o;
     o.size = 17;
@@ -122,7 +123,7 @@ TEST_CASE("bench: a pass's traces go round the methods in turn, Embree's grid ge
     s.height = 12;
     s.threadCounts = {1};
     s.cameras = {BenchCamera::Corner};
-    s.repeat = 2;
+    s.repeat = 3;
     s.methods = {BenchMethod::Bilinear, BenchMethod::EmbreeGrid, BenchMethod::Embree};
     std::vector<std::string> steps;
     s.onStep = [&](const std::string& step) { steps.push_back(step); };
@@ -131,8 +132,9 @@ TEST_CASE("bench: a pass's traces go round the methods in turn, Embree's grid ge
     const std::vector<std::string> expected{
         "building bilinear", "building embree",
         "bilinear" + pass + ", warm-up", "embree" + pass + ", warm-up",
-        "bilinear" + pass, "embree" + pass, "bilinear" + pass, "embree" + pass,
-        "building embree-grid", "embree-grid" + pass + ", warm-up", "embree-grid" + pass, "embree-grid" + pass};
+        "bilinear" + pass, "embree" + pass, "embree" + pass, "bilinear" + pass, "bilinear" + pass, "embree" + pass,
+        "building embree-grid", "embree-grid" + pass + ", warm-up", "embree-grid" + pass, "embree-grid" + pass,
+        "embree-grid" + pass};
     CHECK(steps == expected);
     // Results stay in the settings' order, each with its one pass.
     REQUIRE(r.methods.size() == 3);
@@ -158,8 +160,9 @@ TEST_CASE("bench: a pass's traces go round the methods in turn, Embree's grid ge
     steps.clear();
     const BenchGridResult refused = benchGrid(g, s);
     CHECK(steps == std::vector<std::string>{"building bilinear", "building triangles", "bilinear" + pass + ", warm-up",
-                                            "triangles" + pass + ", warm-up", "bilinear" + pass,
-                                            "triangles" + pass, "bilinear" + pass, "triangles" + pass});
+                                            "triangles" + pass + ", warm-up", "bilinear" + pass, "triangles" + pass,
+                                            "triangles" + pass, "bilinear" + pass, "bilinear" + pass,
+                                            "triangles" + pass});
     REQUIRE(refused.methods.size() == 3);
     CHECK(refused.methods[2].skipped);
     for (size_t k = 0; k < 2; ++k) {
