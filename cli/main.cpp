@@ -209,7 +209,8 @@ int main(int argc, char** argv) {
                          "Thread count measured beside 1 thread, 0 = all cores (default 0)")
         ->check(CLI::Range(0, 4096));
     benchCmd->add_option("--repeat", bench.repeat,
-                         "Trace each pass this many times and report the fastest (default 5)")
+                         "Trace each pass this many times and report the fastest (default " +
+                             std::to_string(BenchSettings{}.repeat) + ")")
         ->check(CLI::Range(1, 100));
     benchCmd->add_option("--json", bench.json, "Write the report as JSON to this file");
     benchCmd->add_option("--methods", bench.methods,

@@ -656,7 +656,8 @@ void traceBundle(const HeightGrid& grid, std::span<const Ray> rays, Interval int
     // cell on each side, by ten times the vertical padding trace clips with, and by 2^-30 of the origin's
     // magnitude: far more than this test's rounding. A ray that misses it has no hit, and trace would have
     // walked nothing and counted nothing; camera rays towards the sky or past the grid's sides cost a few
-    // products instead of trace's setup. A NaN bound never rejects; rays this test rejects for infinite values trace rejects too.
+    // products instead of trace's setup. A NaN bound never rejects; rays this test rejects for infinite values
+    // trace rejects too.
     const double padM = 0x1p-30 * (std::abs(origin.x) + std::abs(origin.y) + std::abs(origin.z));
     const double zPadM = 10.0 * zSlabPadM(grid) + padM;
     const glm::dvec3 boxLo =
