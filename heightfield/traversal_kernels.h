@@ -119,61 +119,32 @@ double zSlabPadM(const HeightGrid& g) {
 // known to pass above every cell by more than the skip margin (see bundleFreeDistanceM), or -infinity.
 // zSign is the sign of ray.dir.z (-1, 0 or 1; 0 also for -0.0), or 2 to read it from the ray; the block tests
 // and level choices rely on it. Without `counting`, counters are ignored.
+// What visiting one cell found: passed over it, ran wholly below it (looking for the first crossing), tested it
+// without a hit, or hit it.
+enum class Visit { Passed, Below, Tested, Hit };
+
+// The walk of one ray through the grid. `start` clips the ray and places the walk in its first cell (false when
+// there is nothing to walk); each `step` then tests one block or visits one cell (false once the walk has
+// ended); `result` tells whether the ray met the surface. See `trace`, which runs it, for the parameters.
 template <class Real, Shape shape, class Heights, int zSign, bool counting>
-bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval interval, bool anyHit,
-           TraceCounters* counters, Traversal traversal, HeightFieldHit* out, double freeUntil) {
-    if constexpr (!counting) counters = nullptr;  // every counting branch folds away
+struct Walk {
+    const HeightGrid& g;
+    const Heights& at;
+    const Ray& ray;
+    Interval interval;
+    bool anyHit;
+    TraceCounters* counters;  // null without `counting`, so every counting branch folds away
+    HeightFieldHit* out;
     bool result = false;
-    if (interval.empty()) return result;
-    const glm::dvec3 og{ray.origin.x * g.cellsPerMetreX(), ray.origin.y * g.cellsPerMetreY(), ray.origin.z};
-    const glm::dvec3 dg{ray.dir.x * g.cellsPerMetreX(), ray.dir.y * g.cellsPerMetreY(), ray.dir.z};
-    // A zero direction (or a NaN in it) fails the first test; an infinite or NaN coordinate, or magnitudes near
-    // the largest double whose sum overflows, the second.
-    const double dirSize = std::abs(dg.x) + std::abs(dg.y) + std::abs(dg.z);
-    if (!(dirSize > 0.0) || !std::isfinite(og.x + og.y + og.z + dirSize)) return result;
-    // The direction's reciprocals, 0 along an axis the ray does not move along. A component so small that its
-    // reciprocal, or the product of the reciprocal with a coordinate the walk may meet (up to twice the grid's
-    // extent, for the edges of the last pyramid blocks), would overflow counts as not moving too: crossing one
-    // cell would take such a ray a parameter above DBL_MAX / (|o| + 2 cells + 2), and a boundary parameter
-    // formed from it could be inf - inf.
-    const glm::dvec3 inv = 1.0 / dg;
-    auto moves = [](double invD, double o, double cells) {
-        return std::isfinite((std::abs(o) + 2.0 * cells + 2.0) * invD);
-    };
-    const bool movesX = moves(inv.x, og.x, double(g.cellsX())), movesY = moves(inv.y, og.y, double(g.cellsY())),
-               movesZ = std::isfinite(inv.z);
-    const double invX = movesX ? inv.x : 0.0, invY = movesY ? inv.y : 0.0, invZ = movesZ ? inv.z : 0.0;
-    // Clips [t0, t1] to the slab lo <= o + t d <= hi, as clipToSlab does but with the reciprocal.
-    auto clip = [](double o, bool moves, double invD, double lo, double hi, double& ta, double& tb) {
-        if (!moves) return lo <= o && o <= hi;
-        const double tl = (lo - o) * invD, th = (hi - o) * invD;
-        ta = std::max(ta, std::min(tl, th));
-        tb = std::min(tb, std::max(tl, th));
-        return ta <= tb;
-    };
 
-    // The z slab, padded (see zSlabPadM).
-    const double zLo = g.minHeightM(), zHi = g.maxHeightM();
-    const double zPad = zSlabPadM(g);
-    double t0 = interval.lo, t1 = interval.hi;
-    if (!clip(og.z, movesZ, invZ, zLo - zPad, zHi + zPad, t0, t1)) return result;
-    if (!std::isfinite(t0) || !std::isfinite(t1)) {
-        // Only a horizontal ray with an unbounded interval gets here; bound it by the footprint.
-        if (!clip(og.x, movesX, invX, 0.0, double(g.cellsX()), t0, t1)) return result;
-        if (!clip(og.y, movesY, invY, 0.0, double(g.cellsY()), t0, t1)) return result;
-        if (!std::isfinite(t0) || !std::isfinite(t1)) return result;
-    }
-
-    const Real eps = unitRoundoff<Real>();
-    const double heightScale = std::max(std::abs(zLo), std::abs(zHi));
-    const double tolerance = grazingToleranceM(g);
-    // A cell is skipped when the ray's z range over it clears the cell's height range by this margin.
-    double margin = cellSkipMargin(double(eps), heightScale, og.z);
-    if (counters) margin = std::max(margin, tolerance);
-
-    const int64_t cellsX = g.cellsX(), cellsY = g.cellsY();
-    if (!clip(og.x, movesX, invX, 0.0, double(cellsX), t0, t1)) return result;
-    if (!clip(og.y, movesY, invY, 0.0, double(cellsY), t0, t1)) return result;
+    // The ray in grid units (x and y in cells, z in metres), its reciprocals and the clipped parameter range.
+    glm::dvec3 og{}, dg{};
+    bool movesX = false, movesY = false, movesZ = false;
+    double invX = 0.0, invY = 0.0, invZ = 0.0;
+    double t0 = 0.0, t1 = 0.0;
+    Real eps = Real(0);
+    double heightScale = 0.0, tolerance = 0.0, margin = 0.0;
+    int64_t cellsX = 0, cellsY = 0;
 
     // G at the exit of the last cell tested, while every cell walked since has had (almost) zero length. An exact
     // corner crossing visits a zero-length cell between two diagonal neighbours; when that cell is a hole,
@@ -184,10 +155,226 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
     Real carriedG = Real(0);
     bool hasCarriedG = false;
 
-    // What visiting one cell found: passed over it, ran wholly below it (looking for the first crossing), tested
-    // it without a hit, or hit it.
-    enum class Visit { Passed, Below, Tested, Hit };
-    auto visitCell = [&](int64_t ci, int64_t cj, double tEnter, double tExit, CellSide entry, auto exitSide) {
+    // The pyramid and the ray's heights in its codes (see start).
+    int levels = 0;
+    HeightGrid::PyramidView pyramid{};
+    double codeZ0 = 0.0, codeZ0High = 0.0, codeDz = 0.0;
+    // The sign of the vertical direction: fixed by the instantiation, or read from the ray (zSign == 2).
+    bool descending = false, rising = false;
+    bool posX = false, posY = false;
+    double tAtX0 = 0.0, tAtY0 = 0.0;
+    int64_t exitOffX = 0, exitOffY = 0, stepX = 0, stepY = 0;
+
+    // Where the walk stands: the cell, the side it entered through, the parameter it entered at, the pyramid
+    // level (0 at the cells), and whether the last cell visited lay wholly above the ray (when looking for the
+    // first crossing).
+    int64_t i = 0, j = 0;
+    CellSide entry = CellSide::Interior;
+    double t = 0.0;
+    int level = 0;
+    bool under = false;
+
+    Walk(const HeightGrid& grid, const Heights& heights, const Ray& r, Interval range, bool anyHitQuery,
+         TraceCounters* tallies, HeightFieldHit* hitOut)
+        : g(grid), at(heights), ray(r), interval(range), anyHit(anyHitQuery), counters(counting ? tallies : nullptr),
+          out(hitOut) {}
+
+    // The parameter of the boundary x = const is (x - ox) / dx, taken as x / dx - ox / dx with the reciprocal;
+    // for a ray parallel to the boundaries the reciprocal is 0 and the constant +infinity, so every boundary
+    // lies at +infinity.
+    double tAtX(int64_t x) const { return double(x) * invX + tAtX0; }
+    double tAtY(int64_t y) const { return double(y) * invY + tAtY0; }
+    // The ray parameter where the walk leaves column c (row c) in its direction of travel.
+    double exitX(int64_t c) const { return tAtX(c + exitOffX); }
+    double exitY(int64_t c) const { return tAtY(c + exitOffY); }
+
+    // Clips [ta, tb] to the slab lo <= o + t d <= hi, as clipToSlab does but with the reciprocal.
+    static bool clip(double o, bool moves, double invD, double lo, double hi, double& ta, double& tb) {
+        if (!moves) return lo <= o && o <= hi;
+        const double tl = (lo - o) * invD, th = (hi - o) * invD;
+        ta = std::max(ta, std::min(tl, th));
+        tb = std::min(tb, std::max(tl, th));
+        return ta <= tb;
+    }
+
+    bool start(Traversal traversal, double freeUntil) {
+        if (interval.empty()) return false;
+        og = {ray.origin.x * g.cellsPerMetreX(), ray.origin.y * g.cellsPerMetreY(), ray.origin.z};
+        dg = {ray.dir.x * g.cellsPerMetreX(), ray.dir.y * g.cellsPerMetreY(), ray.dir.z};
+        // A zero direction (or a NaN in it) fails the first test; an infinite or NaN coordinate, or magnitudes
+        // near the largest double whose sum overflows, the second.
+        const double dirSize = std::abs(dg.x) + std::abs(dg.y) + std::abs(dg.z);
+        if (!(dirSize > 0.0) || !std::isfinite(og.x + og.y + og.z + dirSize)) return false;
+        // The direction's reciprocals, 0 along an axis the ray does not move along. A component so small that its
+        // reciprocal, or the product of the reciprocal with a coordinate the walk may meet (up to twice the
+        // grid's extent, for the edges of the last pyramid blocks), would overflow counts as not moving too:
+        // crossing one cell would take such a ray a parameter above DBL_MAX / (|o| + 2 cells + 2), and a
+        // boundary parameter formed from it could be inf - inf.
+        const glm::dvec3 inv = 1.0 / dg;
+        auto moves = [](double invD, double o, double cells) {
+            return std::isfinite((std::abs(o) + 2.0 * cells + 2.0) * invD);
+        };
+        movesX = moves(inv.x, og.x, double(g.cellsX()));
+        movesY = moves(inv.y, og.y, double(g.cellsY()));
+        movesZ = std::isfinite(inv.z);
+        invX = movesX ? inv.x : 0.0;
+        invY = movesY ? inv.y : 0.0;
+        invZ = movesZ ? inv.z : 0.0;
+
+        // The z slab, padded (see zSlabPadM).
+        const double zLo = g.minHeightM(), zHi = g.maxHeightM();
+        const double zPad = zSlabPadM(g);
+        t0 = interval.lo;
+        t1 = interval.hi;
+        if (!clip(og.z, movesZ, invZ, zLo - zPad, zHi + zPad, t0, t1)) return false;
+        if (!std::isfinite(t0) || !std::isfinite(t1)) {
+            // Only a horizontal ray with an unbounded interval gets here; bound it by the footprint.
+            if (!clip(og.x, movesX, invX, 0.0, double(g.cellsX()), t0, t1)) return false;
+            if (!clip(og.y, movesY, invY, 0.0, double(g.cellsY()), t0, t1)) return false;
+            if (!std::isfinite(t0) || !std::isfinite(t1)) return false;
+        }
+
+        eps = unitRoundoff<Real>();
+        heightScale = std::max(std::abs(zLo), std::abs(zHi));
+        tolerance = grazingToleranceM(g);
+        // A cell is skipped when the ray's z range over it clears the cell's height range by this margin.
+        margin = cellSkipMargin(double(eps), heightScale, og.z);
+        if (counters) margin = std::max(margin, tolerance);
+
+        cellsX = g.cellsX();
+        cellsY = g.cellsY();
+        if (!clip(og.x, movesX, invX, 0.0, double(cellsX), t0, t1)) return false;
+        if (!clip(og.y, movesY, invY, 0.0, double(cellsY), t0, t1)) return false;
+
+        levels = traversal == Traversal::Pyramid ? g.pyramidLevels() : 0;
+        pyramid = g.pyramidView();
+        // The block test runs in code space: a block is passed when its code lies below the ray's lowest height
+        // over it, mapped to codes after lowering it by the margin, by one code step, by 2^-22 of the largest
+        // height magnitude and by 2^-50 of the ray's own height magnitudes. Conservative: those cover the float
+        // rounding of the decoded heights, of this arithmetic and of the ray heights the cell test computes, so a
+        // block passing in code space passes the height test. The ray's code-space height is linear in t.
+        const double codeSlackM = margin + pyramid.scale + 0x1p-22 * (heightScale + pyramid.scale) +
+                                  0x1p-50 * (std::abs(og.z) + std::abs(dg.z) * std::max(std::abs(t0), std::abs(t1)));
+        codeZ0 = (og.z - codeSlackM) * pyramid.codesPerMetre - double(pyramid.offset);
+        // The same for a block the ray runs under: passed when its lowest code lies above the ray's highest
+        // height over it, raised by that slack.
+        codeZ0High = (og.z + codeSlackM) * pyramid.codesPerMetre - double(pyramid.offset);
+        codeDz = dg.z * pyramid.codesPerMetre;
+        descending = zSign == 2 ? dg.z < 0.0 : zSign < 0;
+        rising = zSign == 2 ? dg.z > 0.0 : zSign > 0;
+        posX = dg.x > 0.0;
+        posY = dg.y > 0.0;
+        tAtX0 = movesX ? -og.x * invX : kInfinity;
+        tAtY0 = movesY ? -og.y * invY : kInfinity;
+        exitOffX = posX ? 1 : 0;
+        exitOffY = posY ? 1 : 0;
+        stepX = posX ? 1 : -1;
+        stepY = posY ? 1 : -1;
+
+        // The first cell holds the entry point, preferring the side the ray moves into on a boundary. (Truncation
+        // is floor here: the point is clamped to the grid first; std::floor is a library call on baseline
+        // x86-64.)
+        auto firstIndex = [](double o, double d, double tt, int64_t cells) {
+            const double p = std::clamp(o + tt * d, 0.0, static_cast<double>(cells));
+            auto k = static_cast<int64_t>(p);
+            if (d < 0.0 && static_cast<double>(k) == p) --k;
+            return std::clamp(k, int64_t(0), cells - 1);
+        };
+        i = firstIndex(og.x, dg.x, t0, cellsX);
+        j = firstIndex(og.y, dg.y, t0, cellsY);
+        entry = CellSide::Interior;
+        t = t0;
+        // A ray from outside the grid's box (a camera's) starts a few levels up, where the first blocks it
+        // crosses usually lie below it; one from inside (leaving a surface point) starts at the cells and climbs.
+        const bool fromOutside = og.z > zHi + zPad || og.x < 0.0 || og.y < 0.0 || og.x > double(cellsX) ||
+                                 og.y > double(cellsY);
+        level = fromOutside ? std::min(3, levels) : 0;
+        under = false;
+        // A stretch known to be free is passed like a skipped block: the walk resumes at the last cell boundary
+        // within it, in the state the flat walk has just after crossing that boundary, and a few levels up.
+        if (freeUntil > t0 && levels > 0) {
+            if (freeUntil >= t1) return false;
+            // The last x (y) boundary whose parameter is at most freeUntil: the one at the point's coordinate,
+            // corrected by the boundary formula itself; -infinity when there is none inside the grid.
+            auto lastBoundary = [freeUntil](double o, double d, int64_t cells, int64_t step, auto tAt,
+                                            int64_t& edge) {
+                const double p = std::clamp(o + freeUntil * d, 0.0, static_cast<double>(cells));
+                edge = static_cast<int64_t>(p) + (step < 0 && static_cast<double>(static_cast<int64_t>(p)) != p);
+                while (edge >= 0 && edge <= cells && tAt(edge) > freeUntil) edge -= step;
+                return edge >= 0 && edge <= cells ? tAt(edge) : -kInfinity;
+            };
+            int64_t xEdge = 0, yEdge = 0;
+            const double txb = movesX ? lastBoundary(og.x, dg.x, cellsX, stepX, [this](int64_t x) { return tAtX(x); },
+                                                     xEdge)
+                                      : -kInfinity;
+            const double tyb = movesY ? lastBoundary(og.y, dg.y, cellsY, stepY, [this](int64_t y) { return tAtY(y); },
+                                                     yEdge)
+                                      : -kInfinity;
+            const bool acrossX = txb >= tyb;
+            const double tb = acrossX ? txb : tyb;
+            // Only a boundary ahead of the first cell: the face a ray enters through can get a parameter a few
+            // ulps above t0 from the boundary formula, yet the flat walk never crosses it.
+            const bool ahead =
+                acrossX ? (xEdge - 1 + exitOffX - i) * stepX > 0 : (yEdge - 1 + exitOffY - j) * stepY > 0;
+            if (tb > t0 && ahead) {
+                if (!crossInto(acrossX, acrossX ? xEdge : yEdge, tb)) return false;
+                t = tb;
+                level = std::min(2, levels);
+            }
+        }
+        return true;
+    }
+
+    // The column (row) the flat walk stands in once it has crossed exactly those boundaries of that axis
+    // whose parameter is below tb, or also those at tb when `inclusive`. The flat walk crosses boundaries in
+    // order of t, x before y on a tie, so "every boundary below tb, and the x boundaries at tb" and "every
+    // boundary below tb" are both states it passes through. Starts from the point's floor, never behind the
+    // current index `from` (the flat walk does not step back), and corrects by the boundary parameters; -1
+    // when the flat walk would have left the grid first.
+    template <class ExitAt>
+    int64_t settle(int64_t from, double o, double d, int64_t cells, double tb, int64_t step, bool inclusive,
+                   ExitAt exitAt) const {
+        auto crossed = [&](int64_t c) { return inclusive ? exitAt(c) <= tb : exitAt(c) < tb; };
+        // Most often the walk has not left its column (row) by tb: one comparison, whose boundary parameter
+        // does not wait for tb.
+        if (!crossed(from)) return from;
+        auto k = static_cast<int64_t>(std::clamp(o + tb * d, 0.0, static_cast<double>(cells - 1)));
+        if ((k - from) * step < 0) k = from;
+        if (crossed(k)) {
+            do {
+                k += step;
+                if (k < 0 || k >= cells) return -1;
+            } while (crossed(k));
+        } else if ((k != from) & !crossed(k - step)) {  // rare: evaluated without a data-dependent branch
+            do k -= step;
+            while (k != from && !crossed(k - step));
+        }
+        return k;
+    }
+
+    // Moves the walk across the boundary `edge` of the x axis (when `acrossX`) or of the y axis, at parameter tb:
+    // into the column (row) beyond it, the other axis settled at tb. False when that leaves the grid.
+    __attribute__((always_inline)) bool crossInto(bool acrossX, int64_t edge, double tb) {
+        if (acrossX) {
+            i = edge - 1 + exitOffX;
+            if (i < 0 || i >= cellsX) return false;
+            if (movesY) j = settle(j, og.y, dg.y, cellsY, tb, stepY, false, [this](int64_t c) { return exitY(c); });
+            if (j < 0) return false;
+            entry = posX ? CellSide::XLow : CellSide::XHigh;
+        } else {
+            j = edge - 1 + exitOffY;
+            if (j < 0 || j >= cellsY) return false;
+            if (movesX) i = settle(i, og.x, dg.x, cellsX, tb, stepX, true, [this](int64_t c) { return exitX(c); });
+            if (i < 0) return false;
+            entry = posY ? CellSide::YLow : CellSide::YHigh;
+        }
+        return true;
+    }
+
+    // Visits cell (ci, cj), which the ray crosses from tEnter (through `entry`) to tExit (through exitSide()).
+    template <class ExitSide>
+    __attribute__((always_inline)) Visit visitCell(int64_t ci, int64_t cj, double tEnter, double tExit, CellSide entry,
+                                                   ExitSide exitSide) {
         if (counters) ++counters->cellsVisited;
         if (!g.cellValid(ci, cj)) {
             hasCarriedG = false;
@@ -287,138 +474,18 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
         hit.errorM = 16.0 * double(eps) * (std::abs(hit.pointM.z) + heightScale + g.cellSizeXM() + g.cellSizeYM()) +
                      16.0 * std::numeric_limits<double>::epsilon() * magnitude;
         return Visit::Hit;
-    };
-
-    // The walk: the 2D DDA of Amanatides & Woo 1987 over the cells, interleaved with the maximum-pyramid descent
-    // of Tevs, Ihrke, Seidel 2008. At level k >= 1 the walk stands at the block of 2^k x 2^k cells holding the
-    // current cell; when the ray passes above the block's highest vertex (by the margin) over the whole stretch
-    // it spends in the block, the block is skipped and the walk climbs one level, otherwise it descends. At
-    // level 0 one cell is visited exactly as the flat walk visits it. Every boundary's ray parameter comes from
-    // one formula, and after a skip the walk resumes in the cell the flat walk would stand in at that
-    // parameter (ties between an x and a y boundary go to x first, as in the flat walk), so the cells reached
-    // see the same tEnter, tExit and sides, and skipping changes no hit: every cell of a skipped block would
-    // have been passed over.
-    const int levels = traversal == Traversal::Pyramid ? g.pyramidLevels() : 0;
-    const HeightGrid::PyramidView pyramid = g.pyramidView();
-    // The block test runs in code space: a block is passed when its code lies below the ray's lowest height over
-    // it, mapped to codes after lowering it by the margin, by one code step, by 2^-22 of the largest height
-    // magnitude and by 2^-50 of the ray's own height magnitudes. Conservative: those cover the float rounding
-    // of the decoded heights, of this arithmetic and of the ray heights the cell test computes, so a block
-    // passing in code space passes the height test. The ray's code-space height is linear in t.
-    const double codeSlackM = margin + pyramid.scale + 0x1p-22 * (heightScale + pyramid.scale) +
-                              0x1p-50 * (std::abs(og.z) + std::abs(dg.z) * std::max(std::abs(t0), std::abs(t1)));
-    const double codeZ0 = (og.z - codeSlackM) * pyramid.codesPerMetre - double(pyramid.offset);
-    // The same for a block the ray runs under: passed when its lowest code lies above the ray's highest height
-    // over it, raised by that slack.
-    const double codeZ0High = (og.z + codeSlackM) * pyramid.codesPerMetre - double(pyramid.offset);
-    const double codeDz = dg.z * pyramid.codesPerMetre;
-    // The sign of the vertical direction: fixed by the instantiation, or read from the ray (zSign == 2).
-    const bool descending = zSign == 2 ? dg.z < 0.0 : zSign < 0;
-    const bool rising = zSign == 2 ? dg.z > 0.0 : zSign > 0;
-    const bool posX = dg.x > 0.0, posY = dg.y > 0.0;
-    const double ox = og.x, oy = og.y;
-    // The parameter of the boundary x = const is (x - ox) / dx, taken as x / dx - ox / dx with the reciprocal;
-    // for a ray parallel to the boundaries the reciprocal is 0 and the constant +infinity, so every boundary
-    // lies at +infinity.
-    const double tAtX0 = movesX ? -ox * invX : kInfinity, tAtY0 = movesY ? -oy * invY : kInfinity;
-    auto tAtX = [=](int64_t x) { return double(x) * invX + tAtX0; };
-    auto tAtY = [=](int64_t y) { return double(y) * invY + tAtY0; };
-    // The ray parameter where the walk leaves column i (row j) in its direction of travel.
-    const int64_t exitOffX = posX ? 1 : 0, exitOffY = posY ? 1 : 0;
-    auto exitX = [=](int64_t i) { return tAtX(i + exitOffX); };
-    auto exitY = [=](int64_t j) { return tAtY(j + exitOffY); };
-    const int64_t stepX = posX ? 1 : -1, stepY = posY ? 1 : -1;
-
-    // The first cell holds the entry point, preferring the side the ray moves into on a boundary. (Truncation
-    // is floor here: the point is clamped to the grid first; std::floor is a library call on baseline x86-64.)
-    auto firstIndex = [](double o, double d, double t, int64_t cells) {
-        const double p = std::clamp(o + t * d, 0.0, static_cast<double>(cells));
-        auto k = static_cast<int64_t>(p);
-        if (d < 0.0 && static_cast<double>(k) == p) --k;
-        return std::clamp(k, int64_t(0), cells - 1);
-    };
-    // The column (row) the flat walk stands in once it has crossed exactly those boundaries of that axis
-    // whose parameter is below tb, or also those at tb when `inclusive`. The flat walk crosses boundaries in
-    // order of t, x before y on a tie, so "every boundary below tb, and the x boundaries at tb" and "every
-    // boundary below tb" are both states it passes through. Starts from the point's floor, never behind the
-    // current index `from` (the flat walk does not step back), and corrects by the boundary parameters; -1
-    // when the flat walk would have left the grid first.
-    auto settle = [&](int64_t from, double o, double d, int64_t cells, double tb, int64_t step, bool inclusive,
-                      auto exitAt) -> int64_t {
-        auto crossed = [&](int64_t c) { return inclusive ? exitAt(c) <= tb : exitAt(c) < tb; };
-        // Most often the walk has not left its column (row) by tb: one comparison, whose boundary parameter
-        // does not wait for tb.
-        if (!crossed(from)) return from;
-        auto k = static_cast<int64_t>(std::clamp(o + tb * d, 0.0, static_cast<double>(cells - 1)));
-        if ((k - from) * step < 0) k = from;
-        if (crossed(k)) {
-            do {
-                k += step;
-                if (k < 0 || k >= cells) return -1;
-            } while (crossed(k));
-        } else if ((k != from) & !crossed(k - step)) {  // rare: evaluated without a data-dependent branch
-            do k -= step;
-            while (k != from && !crossed(k - step));
-        }
-        return k;
-    };
-
-    int64_t i = firstIndex(og.x, dg.x, t0, cellsX);
-    int64_t j = firstIndex(og.y, dg.y, t0, cellsY);
-    CellSide entry = CellSide::Interior;
-    double t = t0;
-    // A ray from outside the grid's box (a camera's) starts a few levels up, where the first blocks it crosses
-    // usually lie below it; one from inside (leaving a surface point) starts at the cells and climbs.
-    const bool fromOutside = og.z > zHi + zPad || og.x < 0.0 || og.y < 0.0 || og.x > double(cellsX) ||
-                             og.y > double(cellsY);
-    int level = fromOutside ? std::min(3, levels) : 0;
-    // True while the last cell visited lay wholly above the ray (and the walk looks for the first crossing).
-    bool under = false;
-    // Moves the walk across the boundary `edge` of the x axis (when `acrossX`) or of the y axis, at parameter tb:
-    // into the column (row) beyond it, the other axis settled at tb. False when that leaves the grid.
-    auto crossInto = [&](bool acrossX, int64_t edge, double tb) __attribute__((always_inline)) {
-        if (acrossX) {
-            i = edge - 1 + exitOffX;
-            if (i < 0 || i >= cellsX) return false;
-            if (movesY) j = settle(j, oy, dg.y, cellsY, tb, stepY, false, exitY);
-            if (j < 0) return false;
-            entry = posX ? CellSide::XLow : CellSide::XHigh;
-        } else {
-            j = edge - 1 + exitOffY;
-            if (j < 0 || j >= cellsY) return false;
-            if (movesX) i = settle(i, ox, dg.x, cellsX, tb, stepX, true, exitX);
-            if (i < 0) return false;
-            entry = posY ? CellSide::YLow : CellSide::YHigh;
-        }
-        return true;
-    };
-    // A stretch known to be free is passed like a skipped block: the walk resumes at the last cell boundary
-    // within it, in the state the flat walk has just after crossing that boundary, and a few levels up.
-    if (freeUntil > t0 && levels > 0) {
-        if (freeUntil >= t1) return result;
-        // The last x (y) boundary whose parameter is at most freeUntil: the one at the point's coordinate,
-        // corrected by the boundary formula itself; -infinity when there is none inside the grid.
-        auto lastBoundary = [freeUntil](double o, double d, int64_t cells, int64_t step, auto tAt, int64_t& edge) {
-            const double p = std::clamp(o + freeUntil * d, 0.0, static_cast<double>(cells));
-            edge = static_cast<int64_t>(p) + (step < 0 && static_cast<double>(static_cast<int64_t>(p)) != p);
-            while (edge >= 0 && edge <= cells && tAt(edge) > freeUntil) edge -= step;
-            return edge >= 0 && edge <= cells ? tAt(edge) : -kInfinity;
-        };
-        int64_t xEdge = 0, yEdge = 0;
-        const double txb = movesX ? lastBoundary(ox, dg.x, cellsX, stepX, tAtX, xEdge) : -kInfinity;
-        const double tyb = movesY ? lastBoundary(oy, dg.y, cellsY, stepY, tAtY, yEdge) : -kInfinity;
-        const bool acrossX = txb >= tyb;
-        const double tb = acrossX ? txb : tyb;
-        // Only a boundary ahead of the first cell: the face a ray enters through can get a parameter a few ulps
-        // above t0 from the boundary formula, yet the flat walk never crosses it.
-        const bool ahead = acrossX ? (xEdge - 1 + exitOffX - i) * stepX > 0 : (yEdge - 1 + exitOffY - j) * stepY > 0;
-        if (tb > t0 && ahead) {
-            if (!crossInto(acrossX, acrossX ? xEdge : yEdge, tb)) return result;
-            t = tb;
-            level = std::min(2, levels);
-        }
     }
-    for (;;) {
+
+    // One step of the walk: the 2D DDA of Amanatides & Woo 1987 over the cells, interleaved with the
+    // maximum-pyramid descent of Tevs, Ihrke, Seidel 2008. At level k >= 1 the walk stands at the block of
+    // 2^k x 2^k cells holding the current cell; when the ray passes above the block's highest vertex (by the
+    // margin) over the whole stretch it spends in the block, the block is skipped and the walk climbs one
+    // level, otherwise it descends. At level 0 one cell is visited exactly as the flat walk visits it. Every
+    // boundary's ray parameter comes from one formula, and after a skip the walk resumes in the cell the flat
+    // walk would stand in at that parameter (ties between an x and a y boundary go to x first, as in the flat
+    // walk), so the cells reached see the same tEnter, tExit and sides, and skipping changes no hit: every cell
+    // of a skipped block would have been passed over.
+    __attribute__((always_inline)) bool step() {
         if (level > 0) {
             const int64_t bi = i >> level, bj = j >> level;
             // The block's exit edges in the direction of travel and their parameters. A last, partial block's
@@ -437,13 +504,13 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
                             double(pyramid.minCode(level, bi, bj)) > codeZ0High + codeDz * (descending ? t : tOut))) {
                 // Level 1 has no minimum: a ray under the surface goes straight to the cells.
                 level = under && level == 2 ? 0 : level - 1;
-                continue;
+                return true;
             }
             if (counters) ++counters->blocksSkipped;
             cornerG.reset();
             hasCarriedG = false;
-            if (t1 <= tb) break;  // the interval ends inside the skipped block
-            if (!crossInto(leavesX, leavesX ? xEdge : yEdge, tb)) break;
+            if (t1 <= tb) return false;  // the interval ends inside the skipped block
+            if (!crossInto(leavesX, leavesX ? xEdge : yEdge, tb)) return false;
             t = tb;
             // Climb a level, unless a descending ray stays inside the parent block: the parent's remaining
             // stretch ends at the same exit, as low as before, so when the walk came down from the parent (the
@@ -451,7 +518,7 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
             // the same holds for a ray that does not descend.
             const bool sameParent = (i >> (level + 1)) == (bi >> 1) && (j >> (level + 1)) == (bj >> 1);
             if (level < levels && (!sameParent || (above ? rising : descending))) ++level;
-            continue;
+            return true;
         }
 
         const double tNextX = exitX(i), tNextY = exitY(j);
@@ -469,15 +536,15 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
         // apart); ask for it while this cell is tested.
         at.prefetch(i, std::clamp(j + (posY ? 2 : -1), int64_t(0), cellsY));
         const Visit visit = visitCell(i, j, t, tExit, entry, exitSide);
-        if (visit == Visit::Hit || ends) break;
+        if (visit == Visit::Hit || ends) return false;
         const int64_t iWas = i, jWas = j;
         if (crossX) {
             i += stepX;
-            if (i < 0 || i >= cellsX) break;
+            if (i < 0 || i >= cellsX) return false;
             entry = posX ? CellSide::XLow : CellSide::XHigh;
         } else {
             j += stepY;
-            if (j < 0 || j >= cellsY) break;
+            if (j < 0 || j >= cellsY) return false;
             entry = posY ? CellSide::YLow : CellSide::YHigh;
         }
         t = tExit;
@@ -490,8 +557,24 @@ bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval inte
         // A ray running under the surface tries the minimum pyramid, which starts at level 2.
         under = visit == Visit::Below && levels >= 2;
         if (under) level = 2;
+        return true;
     }
-    return result;
+};
+
+// True when the ray meets the surface in `interval`; the nearest such hit is written to `out` when given
+// (occlusion queries pass none and skip building it). `freeUntil` is a ray parameter up to which the ray is
+// known to pass above every cell by more than the skip margin (see bundleFreeDistanceM), or -infinity.
+// zSign is the sign of ray.dir.z (-1, 0 or 1; 0 also for -0.0), or 2 to read it from the ray; the block tests
+// and level choices rely on it. Without `counting`, counters are ignored. (The walk is an object rather than
+// this function's locals and lambdas: GCC compiles it a few per cent faster that way.)
+template <class Real, Shape shape, class Heights, int zSign, bool counting>
+bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval interval, bool anyHit,
+           TraceCounters* counters, Traversal traversal, HeightFieldHit* out, double freeUntil) {
+    Walk<Real, shape, Heights, zSign, counting> walk(g, at, ray, interval, anyHit, counters, out);
+    if (walk.start(traversal, freeUntil))
+        while (walk.step()) {
+        }
+    return walk.result;
 }
 
 // For bilinear and triangles in float, which renders use, the walk is compiled once per sign of the ray's
