@@ -1227,6 +1227,7 @@ int runBench(const BenchCommandOptions& o) {
         if (!o.methods.empty()) settings.methods = parseBenchMethods(o.methods);
         settings.threadCounts = most > 1 ? std::vector<int>{1, most} : std::vector<int>{1};
         settings.repeat = o.repeat;
+        settings.bands = std::clamp(o.bands, 1, settings.height);
         const double limit = o.maxMemoryBytes > 0.0 ? o.maxMemoryBytes : defaultMemoryLimitBytes();
         // Per pixel while a pass runs: its hits, directions, shadow verdicts, picture and hit distances, plus
         // the first method's hit distances kept for the agreement.
@@ -1240,18 +1241,20 @@ int runBench(const BenchCommandOptions& o) {
 
         fmt::print("terracast bench: {} x {} camera rays per view (corner: south-west, 30 degrees down; grazing: above "
                    "the highest peak, 8 degrees down), sun at azimuth {:g}, elevation {:g} degrees, one shadow ray per "
-                   "hit facing it; {} thread{} ({}); FTZ/DAZ on for every method; direct kernels: {}; fastest of {} "
-                   "trace{} per pass, taken in turn with the other methods in alternating order, after one untimed\n",
+                   "hit facing it; {} thread{} ({}); FTZ/DAZ on for every method; direct kernels: {}; {} trace{} per "
+                   "pass after one untimed, in {} band{} of rows, each band taken in turn with the other methods in "
+                   "alternating order; a pass's time is the sum of each band's fastest\n",
                    settings.width, settings.height, settings.sunAzimuthDeg, settings.sunElevationDeg,
                    most > 1 ? fmt::format("1 and {}", most) : "1", most > 1 ? "s" : "", machine,
-                   kernels, settings.repeat, settings.repeat == 1 ? "" : "s");
+                   kernels, settings.repeat, settings.repeat == 1 ? "" : "s", settings.bands,
+                   settings.bands == 1 ? "" : "s");
         std::string json = fmt::format("{{\"image_width\": {}, \"image_height\": {}, \"sun_azimuth_deg\": {}, "
                                        "\"sun_elevation_deg\": {}, \"cpu\": {}, \"hardware_threads\": {}, "
-                                       "\"kernels\": {}, \"threads\": [{}], \"repeat\": {},\n \"grids\": [",
+                                       "\"kernels\": {}, \"threads\": [{}], \"repeat\": {}, \"bands\": {},\n \"grids\": [",
                                        settings.width, settings.height, jsonNumber(settings.sunAzimuthDeg),
                                        jsonNumber(settings.sunElevationDeg), jsonString(cpu), hardware,
                                        jsonString(kernels),
-                                       most > 1 ? fmt::format("1, {}", most) : "1", settings.repeat);
+                                       most > 1 ? fmt::format("1, {}", most) : "1", settings.repeat, settings.bands);
         std::vector<BenchGridResult> plotted;  // the synthetic grids measured, for --svg
         const auto start = std::chrono::steady_clock::now();
         for (size_t g = 0; g < jobs.size(); ++g) {

@@ -151,7 +151,8 @@ bool parsePair(const std::string& text, double& a, double& b);
 struct BenchCommandOptions {
     std::string sizes = "513,2049,8193";  // comma-separated synthetic grid sizes, each 2^n + 1 vertices
     int threads = 0;                      // the thread count measured beside 1; 0 = all cores
-    int repeat = BenchSettings{}.repeat;  // traces per pass; the fastest is reported
+    int repeat = BenchSettings{}.repeat;  // traces per pass
+    int bands = BenchSettings{}.bands;    // bands of rows per trace; each band's fastest trace is kept
     std::string json;                     // report file; empty = none
     bool large = false;                   // add a 32769 x 32769 synthetic grid
     bool real = false;                    // add the DEMs of `dataDir`

@@ -209,9 +209,13 @@ int main(int argc, char** argv) {
                          "Thread count measured beside 1 thread, 0 = all cores (default 0)")
         ->check(CLI::Range(0, 4096));
     benchCmd->add_option("--repeat", bench.repeat,
-                         "Trace each pass this many times and report the fastest (default " +
-                             std::to_string(BenchSettings{}.repeat) + ")")
+                         "Trace each pass this many times (default " + std::to_string(BenchSettings{}.repeat) + ")")
         ->check(CLI::Range(1, 100));
+    benchCmd->add_option("--bands", bench.bands,
+                         "Trace each pass in this many bands of rows, each band in turn with the other methods; a "
+                         "pass's time is the sum of each band's fastest (default " +
+                             std::to_string(BenchSettings{}.bands) + ")")
+        ->check(CLI::Range(1, BenchSettings{}.height));
     benchCmd->add_option("--json", bench.json, "Write the report as JSON to this file");
     benchCmd->add_option("--methods", bench.methods,
                          "Methods to measure, comma-separated: bilinear, bilinear-flat, triangles, embree, embree-grid "

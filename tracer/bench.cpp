@@ -182,36 +182,68 @@ BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& s) {
                     rs.camera = benchCamera(grid, camera, aspect);
                     const std::string passName = std::string(benchCameraName(camera)) + " camera, " +
                                                  std::to_string(threads) + (threads == 1 ? " thread" : " threads");
-                    // Rates and hit distances only. The fastest of each method's repetitions is kept, for every
-                    // method alike. The first trace's hit distances give the agreement; each trace's buffers go
-                    // before the next one. One untimed trace per method first, so that every method's timed
-                    // traces start with the threads awake. The rounds alternate their order (a, b, c, then c, b,
-                    // a, ...), so that no method always follows the same one, nor always runs first or last.
+                    // Rates and hit distances only, for every method alike. One untimed trace per method first,
+                    // so that every method's timed traces start with the threads awake; its hit distances give the
+                    // agreement. Then each repetition traces the picture band by band (`bands` bands of rows),
+                    // every band going round the methods in turn, and a method's time is the sum of each band's
+                    // fastest time: a stretch in which the shared machine runs slow then costs only the band
+                    // traces it falls on, which other repetitions replace. The order alternates (a, b, c, then
+                    // c, b, a) from one band to the next and from one repetition to the next, so that no method
+                    // always follows the same one, nor always runs first or last.
                     for (const auto& [k, surface] : built) {
-                        out.methods[k].passes.push_back({.camera = camera, .threads = threads});
+                        BenchMethodResult& r = out.methods[k];
+                        r.passes.push_back({.camera = camera, .threads = threads});
                         if (s.onStep)
                             s.onStep(std::string(benchMethodName(s.methods[k])) + ", " + passName + ", warm-up");
-                        (void)traceSurface(grid, *surface, rs, false);
+                        const MethodComparison m = traceSurface(grid, *surface, rs, false);
+                        if (r.passes.size() == 1) {
+                            if (referenceT.empty()) referenceT = m.hitT;
+                            int64_t agree = 0;
+                            for (size_t q = 0; q < m.hitT.size(); ++q)
+                                agree += std::isnan(m.hitT[q]) == std::isnan(referenceT[q]);
+                            r.hitAgreement = m.hitT.empty() ? 0.0 : double(agree) / double(m.hitT.size());
+                        }
                     }
+                    const int bands = std::clamp(s.bands, 1, std::max(1, s.height));
+                    constexpr double kNever = std::numeric_limits<double>::infinity();
+                    struct BandBest {
+                        double primarySeconds = kNever, shadowSeconds = kNever;
+                        int64_t primaryRays = 0, shadowRays = 0;
+                    };
+                    std::vector<std::vector<BandBest>> best(built.size(), std::vector<BandBest>(size_t(bands)));
                     for (int rep = 0; rep < std::max(1, s.repeat); ++rep)
-                        for (size_t q = 0; q < built.size(); ++q) {
-                            const auto& [k, surface] = built[rep % 2 == 0 ? q : built.size() - 1 - q];
-                            BenchMethodResult& r = out.methods[k];
-                            if (s.onStep) s.onStep(std::string(benchMethodName(r.method)) + ", " + passName);
-                            const MethodComparison m = traceSurface(grid, *surface, rs, false);
-                            BenchPass& p = r.passes.back();
-                            p.primaryRays = m.primaryRays;
-                            p.shadowRays = m.shadowRays;
-                            p.primaryRaysPerSecond = std::max(p.primaryRaysPerSecond, m.primaryRaysPerSecond);
-                            p.shadowRaysPerSecond = std::max(p.shadowRaysPerSecond, m.shadowRaysPerSecond);
-                            if (rep == 0 && r.passes.size() == 1) {
-                                if (referenceT.empty()) referenceT = m.hitT;
-                                int64_t agree = 0;
-                                for (size_t q = 0; q < m.hitT.size(); ++q)
-                                    agree += std::isnan(m.hitT[q]) == std::isnan(referenceT[q]);
-                                r.hitAgreement = m.hitT.empty() ? 0.0 : double(agree) / double(m.hitT.size());
+                        for (int band = 0; band < bands; ++band) {
+                            const int y0 = int(int64_t(s.height) * band / bands);
+                            const int y1 = int(int64_t(s.height) * (band + 1) / bands);
+                            const std::string rows = bands == 1 ? std::string()
+                                                                : ", rows " + std::to_string(y0) + " to " +
+                                                                      std::to_string(y1 - 1);
+                            for (size_t q = 0; q < built.size(); ++q) {
+                                const size_t at = (rep + band) % 2 == 0 ? q : built.size() - 1 - q;
+                                const auto& [k, surface] = built[at];
+                                if (s.onStep)
+                                    s.onStep(std::string(benchMethodName(out.methods[k].method)) + ", " + passName +
+                                             rows);
+                                const MethodComparison m = traceSurface(grid, *surface, rs, false, y0, y1);
+                                BandBest& b = best[at][size_t(band)];
+                                b.primarySeconds = std::min(b.primarySeconds, m.primarySeconds);
+                                b.shadowSeconds = std::min(b.shadowSeconds, m.shadowSeconds);
+                                b.primaryRays = m.primaryRays;
+                                b.shadowRays = m.shadowRays;
                             }
                         }
+                    for (size_t q = 0; q < built.size(); ++q) {
+                        BenchPass& p = out.methods[built[q].first].passes.back();
+                        double primarySeconds = 0.0, shadowSeconds = 0.0;
+                        for (const BandBest& b : best[q]) {
+                            p.primaryRays += b.primaryRays;
+                            p.shadowRays += b.shadowRays;
+                            primarySeconds += b.primarySeconds;
+                            shadowSeconds += b.shadowSeconds;
+                        }
+                        p.primaryRaysPerSecond = primarySeconds > 0.0 ? double(p.primaryRays) / primarySeconds : 0.0;
+                        p.shadowRaysPerSecond = shadowSeconds > 0.0 ? double(p.shadowRays) / shadowSeconds : 0.0;
+                    }
                 }
         }
     });

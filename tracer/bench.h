@@ -86,8 +86,10 @@ struct BenchSettings {
     double sunAzimuthDeg = 315.0;                       // clockwise from north
     double sunElevationDeg = 20.0;                      // above the horizon
     std::vector<int> threadCounts{1, 2};                // each pass is run at each of these
-    int repeat = 5;  // each pass is traced this many times, after one untimed trace, and its fastest primary and
-                     // shadow times are kept
+    int repeat = 5;  // each pass is traced this many times, after one untimed trace
+    // Each timed trace covers the picture in this many bands of rows, every band taken in turn with the other
+    // methods; a pass's time is the sum over the bands of each band's fastest time (primary and shadow apart).
+    int bands = 8;
     std::vector<BenchCamera> cameras{BenchCamera::Corner, BenchCamera::Grazing};
     std::vector<BenchMethod> methods = benchMethods();  // measured in this order
     // Asked before a method is built: the bytes it would need when it cannot run here, or none when it can.

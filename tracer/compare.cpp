@@ -24,37 +24,39 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 }  // namespace
 
 MethodComparison traceSurface(const HeightGrid& grid, const TerrainSurface& surface, const TerrainRenderSettings& s,
-                              bool shade) {
+                              bool shade, int rowBegin, int rowEnd) {
     MethodComparison m;
     m.method = surface.method();
     m.buildSeconds = surface.buildSeconds();
     m.memoryBytes = surface.memoryBytes();
     const int w = s.width, h = s.height;
-    const size_t n = size_t(w) * size_t(h);
+    const int y0 = std::clamp(rowBegin, 0, h), y1 = rowEnd < 0 ? h : std::clamp(rowEnd, y0, h);
+    const size_t n = size_t(w) * size_t(y1 - y0);  // pixels traced; pixel (x, y) at (y - y0) * w + x
+    auto index = [&](int x, int y) { return size_t(y - y0) * size_t(w) + size_t(x); };
     std::vector<std::optional<HeightFieldHit>> hits(n);
     std::vector<glm::dvec3> dirs(n);
 
     auto start = std::chrono::steady_clock::now();
-    parallelForTiles(w, h, s.tileSize, s.threads, [&](int x0, int y0, int x1, int y1) {
-        traceCameraRays(surface, s.camera, w, h, x0, y0, x1, y1,
+    parallelForTiles(w, y1 - y0, s.tileSize, s.threads, [&](int x0, int ty0, int x1, int ty1) {
+        traceCameraRays(surface, s.camera, w, h, x0, ty0 + y0, x1, ty1 + y0,
                         [&](int x, int y, const Ray& ray, const std::optional<HeightFieldHit>& hit) {
-                            const size_t k = size_t(y) * size_t(w) + size_t(x);
+                            const size_t k = index(x, y);
                             dirs[k] = ray.dir;
                             hits[k] = hit;
                         });
     });
-    const double primarySeconds = secondsSince(start);
+    m.primarySeconds = secondsSince(start);
     m.primaryRays = int64_t(n);
-    m.primaryRaysPerSecond = primarySeconds > 0.0 ? double(n) / primarySeconds : 0.0;
+    m.primaryRaysPerSecond = m.primarySeconds > 0.0 ? double(n) / m.primarySeconds : 0.0;
 
     std::vector<signed char> lit(n, -1);  // -1: no shadow ray, 0: shadowed, 1: lit
     std::atomic<int64_t> shadowRays{0};
     start = std::chrono::steady_clock::now();
-    parallelForTiles(w, h, s.tileSize, s.threads, [&](int x0, int y0, int x1, int y1) {
+    parallelForTiles(w, y1 - y0, s.tileSize, s.threads, [&](int x0, int ty0, int x1, int ty1) {
         int64_t count = 0;
-        for (int y = y0; y < y1; ++y)
+        for (int y = ty0 + y0; y < ty1 + y0; ++y)
             for (int x = x0; x < x1; ++x) {
-                const size_t k = size_t(y) * size_t(w) + size_t(x);
+                const size_t k = index(x, y);
                 if (!hits[k]) continue;
                 if (const auto r = sunShadowRay(*hits[k], dirs[k], s)) {
                     ++count;
@@ -63,25 +65,23 @@ MethodComparison traceSurface(const HeightGrid& grid, const TerrainSurface& surf
             }
         shadowRays += count;
     });
-    const double shadowSeconds = secondsSince(start);
+    m.shadowSeconds = secondsSince(start);
     m.shadowRays = shadowRays;
-    m.shadowRaysPerSecond = shadowSeconds > 0.0 ? double(m.shadowRays) / shadowSeconds : 0.0;
+    m.shadowRaysPerSecond = m.shadowSeconds > 0.0 ? double(m.shadowRays) / m.shadowSeconds : 0.0;
 
-    m.hitT.assign(n, kNaN);
-    if (!shade) {
-        for (size_t k = 0; k < n; ++k)
-            if (hits[k]) m.hitT[k] = hits[k]->t;
-        return m;
-    }
+    m.hitT.assign(size_t(w) * size_t(h), kNaN);
+    for (int y = y0; y < y1; ++y)
+        for (int x = 0; x < w; ++x)
+            if (const auto& hit = hits[index(x, y)]) m.hitT[size_t(y) * size_t(w) + size_t(x)] = hit->t;
+    if (!shade) return m;
     m.image = Film(w, h);
-    for (int y = 0; y < h; ++y)
+    for (int y = y0; y < y1; ++y)
         for (int x = 0; x < w; ++x) {
-            const size_t k = size_t(y) * size_t(w) + size_t(x);
+            const size_t k = index(x, y);
             if (!hits[k]) {
                 m.image.set(x, y, gradientSky(dirs[k]));
                 continue;
             }
-            m.hitT[k] = hits[k]->t;
             m.image.set(x, y, shadeTerrainHit(grid, *hits[k], dirs[k], lit[k] == 1, s));
         }
     return m;

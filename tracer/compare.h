@@ -31,6 +31,8 @@ struct MethodComparison {
     int64_t shadowRays = 0;
     double primaryRaysPerSecond = 0.0;
     double shadowRaysPerSecond = 0.0;
+    double primarySeconds = 0.0;       // the timed pass of camera rays
+    double shadowSeconds = 0.0;        // the timed pass of shadow rays
     double hitAgreement = 0.0;         // share of primary rays with the reference's hit/miss verdict
     ErrorSummary tErrorM;              // |t - t_ref| in metres over pixels both hit
     ErrorSummary tErrorRel;            // the same over t_ref
@@ -53,9 +55,10 @@ struct CompareReport {
 // Traces one built surface the way compareSurfaces traces each method: a timed pass of camera rays, a timed
 // pass of one shadow ray per hit facing the sun, then shading (skipped, leaving the picture empty, when `shade`
 // is false). Fills in everything but the comparisons with the reference and Embree (agreement, errors, image
-// RMSE and PSNR, ratios).
+// RMSE and PSNR, ratios). Only the picture's rows [rowBegin, rowEnd) are traced when given (rowEnd < 0: to the
+// last row); hitT stays one entry per pixel of the whole picture, NaN outside them.
 MethodComparison traceSurface(const HeightGrid& grid, const TerrainSurface& surface, const TerrainRenderSettings& settings,
-                              bool shade = true);
+                              bool shade = true, int rowBegin = 0, int rowEnd = -1);
 
 // Traces and measures every method of `settings` (the reference is added when missing).
 CompareReport compareSurfaces(const HeightGrid& grid, const CompareSettings& settings);

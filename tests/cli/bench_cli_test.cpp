@@ -98,7 +98,8 @@ TEST_CASE("CLI: bench on a 65 x 65 grid reports every method on both cameras", "
     REQUIRE(doc["threads"].array.size() == 1);
     CHECK(doc["threads"][0].number == 1);
     CHECK(doc["repeat"].number == 2);
-    CHECK(r.out.find("fastest of 2 traces per pass") != std::string::npos);
+    CHECK(doc["bands"].number == 8);
+    CHECK(r.out.find("2 traces per pass after one untimed, in 8 bands of rows") != std::string::npos);
     REQUIRE(doc["grids"].array.size() == 1);
     const JsonValue& grid = doc["grids"][0];
     CHECK(grid["dem"].string == "synthetic-65");
@@ -211,6 +212,8 @@ TEST_CASE("CLI: bench refuses bad options with one line and exit 2", "[cli][benc
         {"--sizes 131073" + out, "--sizes"},
         {"--threads -1" + out, "--threads"},
         {"--repeat 0" + out, "--repeat"},
+        {"--bands 0" + out, "--bands"},
+        {"--bands 769" + out, "--bands"},
         {"--max-memory lots" + out, "--max-memory"},
         {"--real --data /no/such/folder" + out, "/no/such/folder"},
         {"--sizes 65 --json /no/such/folder/r.json", "/no/such/folder"},

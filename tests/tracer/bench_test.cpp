@@ -1,6 +1,6 @@
 // The bench library: denormals are flushed on every thread that traces, the grazing camera stands just above
 // the highest peak looking 8 degrees down, a grid's report holds every method, refused ones as skipped, and
-// each pass's traces go round the methods in turn, in alternating order.
+// each pass's traces go round the methods in turn, band by band, in alternating order.
 #include "heightfield/fractal_terrain.h"
 #include "tracer/bench.h"
 
@@ -110,6 +110,18 @@ TEST_CASE("bench: one grid, every method, refused methods skipped, ratios to Emb
     }
     // The flat walk and the pyramid hit the same cells, so they cast the same shadow rays.
     for (size_t q = 0; q < 4; ++q) CHECK(r.methods[0].passes[q].shadowRays == r.methods[1].passes[q].shadowRays);
+    // Traced in 8 bands of 6 rows (the default) or as whole pictures, a pass counts the same rays.
+    REQUIRE(s.bands == 8);
+    s.bands = 1;
+    s.methods = {BenchMethod::Bilinear, BenchMethod::Embree};
+    const BenchGridResult whole = benchGrid(g, s);
+    for (size_t k = 0; k < 2; ++k)
+        for (size_t q = 0; q < 4; ++q) {
+            const BenchPass& banded = r.methods[k == 0 ? 0 : 3].passes[q];
+            CHECK(whole.methods[k].passes[q].primaryRays == banded.primaryRays);
+            CHECK(whole.methods[k].passes[q].shadowRays == banded.shadowRays);
+            CHECK(banded.shadowRays > 0);
+        }
 }
 
 TEST_CASE("bench: a pass's traces go round the methods in turn, in alternating order, Embree's grid geometry in a "
@@ -124,17 +136,23 @@ TEST_CASE("bench: a pass's traces go round the methods in turn, in alternating o
     s.threadCounts = {1};
     s.cameras = {BenchCamera::Corner};
     s.repeat = 3;
+    s.bands = 2;
     s.methods = {BenchMethod::Bilinear, BenchMethod::EmbreeGrid, BenchMethod::Embree};
     std::vector<std::string> steps;
     s.onStep = [&](const std::string& step) { steps.push_back(step); };
     const BenchGridResult r = benchGrid(g, s);
     const std::string pass = ", corner camera, 1 thread";
+    const std::string top = pass + ", rows 0 to 5", bottom = pass + ", rows 6 to 11";
+    // The order alternates from band to band and from one repetition to the next.
     const std::vector<std::string> expected{
         "building bilinear", "building embree",
         "bilinear" + pass + ", warm-up", "embree" + pass + ", warm-up",
-        "bilinear" + pass, "embree" + pass, "embree" + pass, "bilinear" + pass, "bilinear" + pass, "embree" + pass,
-        "building embree-grid", "embree-grid" + pass + ", warm-up", "embree-grid" + pass, "embree-grid" + pass,
-        "embree-grid" + pass};
+        "bilinear" + top, "embree" + top, "embree" + bottom, "bilinear" + bottom,       // repetition 1
+        "embree" + top, "bilinear" + top, "bilinear" + bottom, "embree" + bottom,       // repetition 2
+        "bilinear" + top, "embree" + top, "embree" + bottom, "bilinear" + bottom,       // repetition 3
+        "building embree-grid", "embree-grid" + pass + ", warm-up",
+        "embree-grid" + top, "embree-grid" + bottom, "embree-grid" + top, "embree-grid" + bottom,
+        "embree-grid" + top, "embree-grid" + bottom};
     CHECK(steps == expected);
     // Results stay in the settings' order, each with its one pass.
     REQUIRE(r.methods.size() == 3);
@@ -157,6 +175,7 @@ TEST_CASE("bench: a pass's traces go round the methods in turn, in alternating o
         return std::nullopt;
     };
     s.methods = {BenchMethod::Bilinear, BenchMethod::Triangles, BenchMethod::Embree};
+    s.bands = 1;  // one band: the whole picture, named by the pass alone
     steps.clear();
     const BenchGridResult refused = benchGrid(g, s);
     CHECK(steps == std::vector<std::string>{"building bilinear", "building triangles", "bilinear" + pass + ", warm-up",

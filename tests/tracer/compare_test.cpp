@@ -153,3 +153,47 @@ TEST_CASE("CLI: compare writes the table, the JSON, images, heat maps and the SV
     CHECK(svg.find(">embree-grid<") != std::string::npos);
     fs::remove_all(dir);
 }
+
+TEST_CASE("traceSurface: a band of rows traces those rows' pixels as the whole picture does", "[tracer][compare]") {
+    std::vector<float> z(33 * 33);
+    for (int j = 0; j < 33; ++j)
+        for (int i = 0; i < 33; ++i) z[size_t(j * 33 + i)] = float(200.0 + 60.0 * std::sin(0.4 * i) * std::cos(0.3 * j));
+    const HeightGrid g(33, 33, 30.0, 30.0, z);
+    TerrainRenderSettings s;
+    s.width = 40;
+    s.height = 30;
+    s.threads = 2;
+    s.camera = autoCamera(g, double(s.width) / s.height);
+    for (SurfaceMethod method : {SurfaceMethod::Bilinear, SurfaceMethod::Embree}) {
+        INFO(surfaceMethodName(method));
+        const TerrainSurface surface(g, method);
+        const MethodComparison whole = traceSurface(g, surface, s);
+        REQUIRE(whole.hitT.size() == size_t(s.width * s.height));
+        int64_t shadowRays = 0, primaryRays = 0;
+        // Three bands covering the picture, the last one given as "to the end".
+        const int cuts[4] = {0, 7, 19, -1};
+        for (int b = 0; b < 3; ++b) {
+            const MethodComparison band = traceSurface(g, surface, s, true, cuts[b], cuts[b + 1]);
+            const int y1 = cuts[b + 1] < 0 ? s.height : cuts[b + 1];
+            CHECK(band.primaryRays == int64_t(s.width) * (y1 - cuts[b]));
+            CHECK(band.primarySeconds > 0.0);
+            REQUIRE(band.hitT.size() == whole.hitT.size());
+            for (int y = 0; y < s.height; ++y)
+                for (int x = 0; x < s.width; ++x) {
+                    const size_t k = size_t(y * s.width + x);
+                    if (y < cuts[b] || y >= y1) {
+                        CHECK(std::isnan(band.hitT[k]));
+                        continue;
+                    }
+                    CHECK(std::isnan(band.hitT[k]) == std::isnan(whole.hitT[k]));
+                    if (!std::isnan(whole.hitT[k])) CHECK(band.hitT[k] == whole.hitT[k]);
+                    CHECK(band.image.get(x, y) == whole.image.get(x, y));
+                }
+            shadowRays += band.shadowRays;
+            primaryRays += band.primaryRays;
+        }
+        CHECK(primaryRays == whole.primaryRays);
+        CHECK(shadowRays == whole.shadowRays);
+        CHECK(whole.shadowRays > 0);
+    }
+}
