@@ -114,11 +114,6 @@ double zSlabPadM(const HeightGrid& g) {
     return 1e-6 * (1.0 + std::max(std::abs(g.minHeightM()), std::abs(g.maxHeightM())));
 }
 
-// True when the ray meets the surface in `interval`; the nearest such hit is written to `out` when given
-// (occlusion queries pass none and skip building it). `freeUntil` is a ray parameter up to which the ray is
-// known to pass above every cell by more than the skip margin (see bundleFreeDistanceM), or -infinity.
-// zSign is the sign of ray.dir.z (-1, 0 or 1; 0 also for -0.0), or 2 to read it from the ray; the block tests
-// and level choices rely on it. Without `counting`, counters are ignored.
 // What visiting one cell found: passed over it, ran wholly below it (looking for the first crossing), tested it
 // without a hit, or hit it.
 enum class Visit { Passed, Below, Tested, Hit };
@@ -133,7 +128,7 @@ struct Walk {
     const Ray& ray;
     Interval interval;
     bool anyHit;
-    TraceCounters* counters;  // null without `counting`, so every counting branch folds away
+    TraceCounters* counters;  // null without `counting`; each use tests `counting` first, so that it folds away
     HeightFieldHit* out;
     bool result = false;
 
@@ -179,9 +174,9 @@ struct Walk {
         : g(grid), at(heights), ray(r), interval(range), anyHit(anyHitQuery), counters(counting ? tallies : nullptr),
           out(hitOut) {}
 
-    // The parameter of the boundary x = const is (x - ox) / dx, taken as x / dx - ox / dx with the reciprocal;
-    // for a ray parallel to the boundaries the reciprocal is 0 and the constant +infinity, so every boundary
-    // lies at +infinity.
+    // The parameter of the boundary x = const is (x - og.x) / dg.x, taken as x / dg.x - og.x / dg.x with the
+    // reciprocal; for a ray parallel to the boundaries the reciprocal is 0 and the constant +infinity, so every
+    // boundary lies at +infinity.
     double tAtX(int64_t x) const { return double(x) * invX + tAtX0; }
     double tAtY(int64_t y) const { return double(y) * invY + tAtY0; }
     // The ray parameter where the walk leaves column c (row c) in its direction of travel.
@@ -239,7 +234,7 @@ struct Walk {
         tolerance = grazingToleranceM(g);
         // A cell is skipped when the ray's z range over it clears the cell's height range by this margin.
         margin = cellSkipMargin(double(eps), heightScale, og.z);
-        if (counters) margin = std::max(margin, tolerance);
+        if (counting && counters) margin = std::max(margin, tolerance);
 
         cellsX = g.cellsX();
         cellsY = g.cellsY();
@@ -375,7 +370,7 @@ struct Walk {
     template <class ExitSide>
     __attribute__((always_inline)) Visit visitCell(int64_t ci, int64_t cj, double tEnter, double tExit, CellSide entry,
                                                    ExitSide exitSide) {
-        if (counters) ++counters->cellsVisited;
+        if (counting && counters) ++counters->cellsVisited;
         if (!g.cellValid(ci, cj)) {
             hasCarriedG = false;
             // A corner pass: the segment clips the hole cell by less than 1e-7 of a cell (rounding of t).
@@ -399,7 +394,7 @@ struct Walk {
             return Visit::Below;
         }
         const auto h = corners<Real>(f00, f10, f01, f11);  // the heights read for the tests above
-        if (counters) ++counters->cellsTested;
+        if (counting && counters) ++counters->cellsTested;
 
         const glm::dvec3 pEnter{og.x + tEnter * dg.x, og.y + tEnter * dg.y, zEnter};
         const glm::dvec3 pExit{og.x + tExit * dg.x, og.y + tExit * dg.y, zExit};
@@ -425,7 +420,8 @@ struct Walk {
         cornerG = seg.gExit;
 
         if constexpr (shape == Shape::Bilinear)
-            if (counters && !counters->ambiguous) counters->ambiguous = grazes(h, seg, s.has_value(), tolerance);
+            if (counting && counters && !counters->ambiguous)
+                counters->ambiguous = grazes(h, seg, s.has_value(), tolerance);
         if (!s) return Visit::Tested;
 
         const double t = tEnter + double(*s);
@@ -506,7 +502,7 @@ struct Walk {
                 level = under && level == 2 ? 0 : level - 1;
                 return true;
             }
-            if (counters) ++counters->blocksSkipped;
+            if (counting && counters) ++counters->blocksSkipped;
             cornerG.reset();
             hasCarriedG = false;
             if (t1 <= tb) return false;  // the interval ends inside the skipped block
@@ -566,7 +562,7 @@ struct Walk {
 // known to pass above every cell by more than the skip margin (see bundleFreeDistanceM), or -infinity.
 // zSign is the sign of ray.dir.z (-1, 0 or 1; 0 also for -0.0), or 2 to read it from the ray; the block tests
 // and level choices rely on it. Without `counting`, counters are ignored. (The walk is an object rather than
-// this function's locals and lambdas: GCC compiles it a few per cent faster that way.)
+// this function's locals and lambdas: the code GCC generates for it runs a few per cent faster that way.)
 template <class Real, Shape shape, class Heights, int zSign, bool counting>
 bool trace(const HeightGrid& g, const Heights& at, const Ray& ray, Interval interval, bool anyHit,
            TraceCounters* counters, Traversal traversal, HeightFieldHit* out, double freeUntil) {

@@ -124,6 +124,19 @@ bool denormalsFlushed() {
 #endif
 }
 
+double bandedSeconds(const std::vector<std::vector<double>>& seconds) {
+    size_t bands = 0;
+    for (const auto& repetition : seconds) bands = std::max(bands, repetition.size());
+    double total = 0.0;
+    for (size_t b = 0; b < bands; ++b) {
+        double fastest = std::numeric_limits<double>::infinity();
+        for (const auto& repetition : seconds)
+            if (b < repetition.size()) fastest = std::min(fastest, repetition[b]);
+        total += fastest;
+    }
+    return total;
+}
+
 BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& s) {
     BenchGridResult out;
     out.width = grid.width();
@@ -134,8 +147,8 @@ BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& s) {
     FlushDenormalsScope flush;
 
     // Methods are measured in groups whose surfaces are alive together, and within a group each pass's traces go
-    // round the methods in turn (a, b, c, a, b, c, ...): a stretch in which the shared machine runs slow then
-    // falls on every method of the group alike instead of on one method's whole pass. The methods on the grid
+    // round the methods in turn (see below): a stretch in which a shared machine runs slow then falls on every
+    // method of the group alike instead of on one method's whole pass. The methods on the grid
     // itself cost no memory of their own, so they share a group with Embree's triangle mesh, the baseline of
     // every ratio; Embree's grid geometry is measured in a group of its own afterwards, so that no two Embree
     // scenes are held at once. Its ratios are therefore over the mesh's passes of the first group, taken minutes
@@ -186,10 +199,11 @@ BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& s) {
                     // so that every method's timed traces start with the threads awake; its hit distances give the
                     // agreement. Then each repetition traces the picture band by band (`bands` bands of rows),
                     // every band going round the methods in turn, and a method's time is the sum of each band's
-                    // fastest time: a stretch in which the shared machine runs slow then costs only the band
-                    // traces it falls on, which other repetitions replace. The order alternates (a, b, c, then
-                    // c, b, a) from one band to the next and from one repetition to the next, so that no method
-                    // always follows the same one, nor always runs first or last.
+                    // fastest time (bandedSeconds): a stretch in which a shared machine runs slow then costs only
+                    // the band traces it falls on, which other repetitions replace. The order (a, b, c, or c, b,
+                    // a) alternates from one band to the next within a repetition, and for each band from one
+                    // repetition to the next, so that no method always follows the same one, nor always runs
+                    // first or last.
                     for (const auto& [k, surface] : built) {
                         BenchMethodResult& r = out.methods[k];
                         r.passes.push_back({.camera = camera, .threads = threads});
@@ -205,13 +219,15 @@ BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& s) {
                         }
                     }
                     const int bands = std::clamp(s.bands, 1, std::max(1, s.height));
-                    constexpr double kNever = std::numeric_limits<double>::infinity();
-                    struct BandBest {
-                        double primarySeconds = kNever, shadowSeconds = kNever;
-                        int64_t primaryRays = 0, shadowRays = 0;
-                    };
-                    std::vector<std::vector<BandBest>> best(built.size(), std::vector<BandBest>(size_t(bands)));
-                    for (int rep = 0; rep < std::max(1, s.repeat); ++rep)
+                    const int repeat = std::max(1, s.repeat);
+                    // Per method (in `built` order), per repetition and band: seconds; per band: rays.
+                    using Times = std::vector<std::vector<double>>;
+                    std::vector<Times> primarySeconds(built.size(),
+                                                      Times(size_t(repeat), std::vector<double>(size_t(bands))));
+                    std::vector<Times> shadowSeconds = primarySeconds;
+                    std::vector<std::vector<int64_t>> primaryRays(built.size(), std::vector<int64_t>(size_t(bands)));
+                    std::vector<std::vector<int64_t>> shadowRays = primaryRays;
+                    for (int rep = 0; rep < repeat; ++rep)
                         for (int band = 0; band < bands; ++band) {
                             const int y0 = int(int64_t(s.height) * band / bands);
                             const int y1 = int(int64_t(s.height) * (band + 1) / bands);
@@ -225,24 +241,22 @@ BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& s) {
                                     s.onStep(std::string(benchMethodName(out.methods[k].method)) + ", " + passName +
                                              rows);
                                 const MethodComparison m = traceSurface(grid, *surface, rs, false, y0, y1);
-                                BandBest& b = best[at][size_t(band)];
-                                b.primarySeconds = std::min(b.primarySeconds, m.primarySeconds);
-                                b.shadowSeconds = std::min(b.shadowSeconds, m.shadowSeconds);
-                                b.primaryRays = m.primaryRays;
-                                b.shadowRays = m.shadowRays;
+                                primarySeconds[at][size_t(rep)][size_t(band)] = m.primarySeconds;
+                                shadowSeconds[at][size_t(rep)][size_t(band)] = m.shadowSeconds;
+                                primaryRays[at][size_t(band)] = m.primaryRays;
+                                shadowRays[at][size_t(band)] = m.shadowRays;
                             }
                         }
                     for (size_t q = 0; q < built.size(); ++q) {
                         BenchPass& p = out.methods[built[q].first].passes.back();
-                        double primarySeconds = 0.0, shadowSeconds = 0.0;
-                        for (const BandBest& b : best[q]) {
-                            p.primaryRays += b.primaryRays;
-                            p.shadowRays += b.shadowRays;
-                            primarySeconds += b.primarySeconds;
-                            shadowSeconds += b.shadowSeconds;
+                        for (int band = 0; band < bands; ++band) {
+                            p.primaryRays += primaryRays[q][size_t(band)];
+                            p.shadowRays += shadowRays[q][size_t(band)];
                         }
-                        p.primaryRaysPerSecond = primarySeconds > 0.0 ? double(p.primaryRays) / primarySeconds : 0.0;
-                        p.shadowRaysPerSecond = shadowSeconds > 0.0 ? double(p.shadowRays) / shadowSeconds : 0.0;
+                        const double primary = bandedSeconds(primarySeconds[q]);
+                        const double shadow = bandedSeconds(shadowSeconds[q]);
+                        p.primaryRaysPerSecond = primary > 0.0 ? double(p.primaryRays) / primary : 0.0;
+                        p.shadowRaysPerSecond = shadow > 0.0 ? double(p.shadowRays) / shadow : 0.0;
                     }
                 }
         }

@@ -98,6 +98,10 @@ struct BenchSettings {
     std::function<void(const std::string& step)> onStep;
 };
 
+// The time of a pass traced in bands: seconds[r][b] is repetition r's time for band b, and the pass takes the sum
+// over the bands of each band's fastest repetition (0 for no band).
+double bandedSeconds(const std::vector<std::vector<double>>& seconds);
+
 // One timed pass: one camera, one thread count.
 struct BenchPass {
     BenchCamera camera = BenchCamera::Corner;

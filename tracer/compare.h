@@ -56,7 +56,8 @@ struct CompareReport {
 // pass of one shadow ray per hit facing the sun, then shading (skipped, leaving the picture empty, when `shade`
 // is false). Fills in everything but the comparisons with the reference and Embree (agreement, errors, image
 // RMSE and PSNR, ratios). Only the picture's rows [rowBegin, rowEnd) are traced when given (rowEnd < 0: to the
-// last row); hitT stays one entry per pixel of the whole picture, NaN outside them.
+// last row); hitT stays one entry per pixel of the whole picture, NaN outside them, and the picture stays black
+// there.
 MethodComparison traceSurface(const HeightGrid& grid, const TerrainSurface& surface, const TerrainRenderSettings& settings,
                               bool shade = true, int rowBegin = 0, int rowEnd = -1);
 

@@ -110,18 +110,31 @@ TEST_CASE("bench: one grid, every method, refused methods skipped, ratios to Emb
     }
     // The flat walk and the pyramid hit the same cells, so they cast the same shadow rays.
     for (size_t q = 0; q < 4; ++q) CHECK(r.methods[0].passes[q].shadowRays == r.methods[1].passes[q].shadowRays);
-    // Traced in 8 bands of 6 rows (the default) or as whole pictures, a pass counts the same rays.
+    // Traced in 8 bands of 6 rows (the default), in 5 bands of 9 or 10 rows, or as whole pictures, a pass counts
+    // the same rays.
     REQUIRE(s.bands == 8);
-    s.bands = 1;
     s.methods = {BenchMethod::Bilinear, BenchMethod::Embree};
+    s.bands = 5;
+    const BenchGridResult uneven = benchGrid(g, s);
+    s.bands = 1;
     const BenchGridResult whole = benchGrid(g, s);
     for (size_t k = 0; k < 2; ++k)
         for (size_t q = 0; q < 4; ++q) {
             const BenchPass& banded = r.methods[k == 0 ? 0 : 3].passes[q];
-            CHECK(whole.methods[k].passes[q].primaryRays == banded.primaryRays);
-            CHECK(whole.methods[k].passes[q].shadowRays == banded.shadowRays);
+            for (const BenchGridResult* other : {&uneven, &whole}) {
+                CHECK(other->methods[k].passes[q].primaryRays == banded.primaryRays);
+                CHECK(other->methods[k].passes[q].shadowRays == banded.shadowRays);
+            }
             CHECK(banded.shadowRays > 0);
         }
+}
+
+TEST_CASE("bench: a pass traced in bands takes the sum of each band's fastest repetition", "[tracer][bench]") {
+    // Repetition r's seconds for bands 0, 1, 2: the fastest are 1.0 (r = 1), 2.0 (r = 0) and 0.5 (r = 2).
+    CHECK(bandedSeconds({{3.0, 2.0, 4.0}, {1.0, 6.0, 0.75}, {1.5, 2.5, 0.5}}) == 3.5);
+    CHECK(bandedSeconds({{0.25, 0.5}}) == 0.75);  // one repetition: its own sum
+    CHECK(bandedSeconds({{2.0}, {1.0}, {3.0}}) == 1.0);  // one band: the fastest repetition
+    CHECK(bandedSeconds({}) == 0.0);
 }
 
 TEST_CASE("bench: a pass's traces go round the methods in turn, in alternating order, Embree's grid geometry in a "

@@ -181,8 +181,9 @@ TEST_CASE("traceSurface: a band of rows traces those rows' pixels as the whole p
             for (int y = 0; y < s.height; ++y)
                 for (int x = 0; x < s.width; ++x) {
                     const size_t k = size_t(y * s.width + x);
-                    if (y < cuts[b] || y >= y1) {
+                    if (y < cuts[b] || y >= y1) {  // not traced, not shaded
                         CHECK(std::isnan(band.hitT[k]));
+                        CHECK(band.image.get(x, y) == glm::vec3(0.0f));
                         continue;
                     }
                     CHECK(std::isnan(band.hitT[k]) == std::isnan(whole.hitT[k]));
