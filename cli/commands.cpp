@@ -1227,7 +1227,7 @@ int runBench(const BenchCommandOptions& o) {
         if (!o.methods.empty()) settings.methods = parseBenchMethods(o.methods);
         settings.threadCounts = most > 1 ? std::vector<int>{1, most} : std::vector<int>{1};
         settings.repeat = o.repeat;
-        settings.bands = std::clamp(o.bands, 1, settings.height);
+        settings.bands = o.bands;
         const double limit = o.maxMemoryBytes > 0.0 ? o.maxMemoryBytes : defaultMemoryLimitBytes();
         // Per pixel while a pass runs: its hits, directions, shadow verdicts, picture and hit distances, plus
         // the first method's hit distances kept for the agreement.

@@ -220,13 +220,12 @@ BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& s) {
                     }
                     const int bands = std::clamp(s.bands, 1, std::max(1, s.height));
                     const int repeat = std::max(1, s.repeat);
-                    // Per method (in `built` order), per repetition and band: seconds; per band: rays.
+                    // Per method (in `built` order), per repetition and band: seconds. The rays are counted from
+                    // the first repetition, as every repetition traces the same ones.
                     using Times = std::vector<std::vector<double>>;
                     std::vector<Times> primarySeconds(built.size(),
                                                       Times(size_t(repeat), std::vector<double>(size_t(bands))));
                     std::vector<Times> shadowSeconds = primarySeconds;
-                    std::vector<std::vector<int64_t>> primaryRays(built.size(), std::vector<int64_t>(size_t(bands)));
-                    std::vector<std::vector<int64_t>> shadowRays = primaryRays;
                     for (int rep = 0; rep < repeat; ++rep)
                         for (int band = 0; band < bands; ++band) {
                             const int y0 = int(int64_t(s.height) * band / bands);
@@ -243,16 +242,15 @@ BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& s) {
                                 const MethodComparison m = traceSurface(grid, *surface, rs, false, y0, y1);
                                 primarySeconds[at][size_t(rep)][size_t(band)] = m.primarySeconds;
                                 shadowSeconds[at][size_t(rep)][size_t(band)] = m.shadowSeconds;
-                                primaryRays[at][size_t(band)] = m.primaryRays;
-                                shadowRays[at][size_t(band)] = m.shadowRays;
+                                if (rep == 0) {
+                                    BenchPass& p = out.methods[k].passes.back();
+                                    p.primaryRays += m.primaryRays;
+                                    p.shadowRays += m.shadowRays;
+                                }
                             }
                         }
                     for (size_t q = 0; q < built.size(); ++q) {
                         BenchPass& p = out.methods[built[q].first].passes.back();
-                        for (int band = 0; band < bands; ++band) {
-                            p.primaryRays += primaryRays[q][size_t(band)];
-                            p.shadowRays += shadowRays[q][size_t(band)];
-                        }
                         const double primary = bandedSeconds(primarySeconds[q]);
                         const double shadow = bandedSeconds(shadowSeconds[q]);
                         p.primaryRaysPerSecond = primary > 0.0 ? double(p.primaryRays) / primary : 0.0;
