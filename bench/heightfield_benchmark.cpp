@@ -3,6 +3,8 @@
 // against ray by ray. Run as
 //   build/bench/terracast-microbench --benchmark_filter=Cell   (or Dda, Pyramid, CameraBundle)
 #include "heightfield/cell_intersectors.h"
+
+#include "tracer/core/angles.h"
 #include "heightfield/fractal_terrain.h"
 #include "heightfield/traversal.h"
 #include "tracer/bench.h"
@@ -110,7 +112,7 @@ void BM_DdaStep(benchmark::State& state) {
     std::uniform_real_distribution<double> U(0.0, 1.0);
     std::vector<Ray> rays(kSamples);
     for (auto& r : rays) {
-        const double a = 2.0 * 3.14159265358979323846 * U(rng);
+        const double a = 2.0 * kPi * U(rng);
         r.origin = {0.5 * double(kSize - 1) + 0.3, 0.5 * double(kSize - 1) + 0.7, 1.0};
         r.dir = {std::cos(a), std::sin(a), 0.0};
     }
@@ -145,8 +147,8 @@ void BM_PyramidDescent(benchmark::State& state) {
     for (auto& r : rays) {
         const double x = grid.extentXM() * (0.1 + 0.8 * U(rng)), y = grid.extentYM() * (0.1 + 0.8 * U(rng));
         const int64_t i = int64_t(x / grid.cellSizeXM()), j = int64_t(y / grid.cellSizeYM());
-        const double az = 2.0 * 3.14159265358979323846 * U(rng);
-        const double el = (45.0 + 35.0 * U(rng)) * 3.14159265358979323846 / 180.0;
+        const double az = 2.0 * kPi * U(rng);
+        const double el = (45.0 + 35.0 * U(rng)) * kPi / 180.0;
         const glm::dvec3 down{std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), -std::sin(el)};
         const glm::dvec3 target{x, y, double(grid.at(i, j))};
         r.dir = down;

@@ -1,9 +1,11 @@
 #include "cli/commands.h"
 
+#include "tracer/core/angles.h"
+
 #include "cli/height_png.h"
 
 #include "loaders/dem_loader.h"
-#include "loaders/errors.h"
+#include "tracer/core/errors.h"
 #include "loaders/image_io.h"
 #include "loaders/crs.h"
 #include "loaders/raster_writer.h"
@@ -12,7 +14,7 @@
 #include "heightfield/fractal_terrain.h"
 #include "tracer/accuracy.h"
 #include "tracer/bench.h"
-#include "tracer/cancel.h"
+#include "tracer/core/cancel.h"
 #include "tracer/compare.h"
 #include "tracer/maps.h"
 #include "tracer/scene_renderer.h"
@@ -125,7 +127,6 @@ private:
     std::chrono::steady_clock::time_point last_{};
 };
 
-constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
 
 // The extension of a path, lower-cased, with its dot.
 std::string lowerExtension(const std::string& path) {
@@ -667,9 +668,9 @@ int runShadow(const ShadowOptions& o) {
         const CellMethod method = directMethod(o.method, "shadow");
         const LoadedDem dem = load(o.dem);
         const auto start = std::chrono::steady_clock::now();
-        const MapRaster mask = shadowMask(dem.grid, o.sunAzimuthDeg * kRadiansPerDegree,
-                                          o.sunElevationDeg * kRadiansPerDegree, method,
-                                          0.5 * o.sunSizeDeg * kRadiansPerDegree, 16, o.threads);
+        const MapRaster mask = shadowMask(dem.grid, radians(o.sunAzimuthDeg),
+                                          radians(o.sunElevationDeg), method,
+                                          radians(0.5 * o.sunSizeDeg), 16, o.threads);
         writeVertexRaster(o.output, dem, mask, RasterType::Float32, -9999.0);
         printRasterSummary("shadow mask", o.output, mask, start);
         return 0;
@@ -682,7 +683,7 @@ int runHorizon(const HorizonOptions& o) {
         const CellMethod method = directMethod(o.method, "horizon");
         const LoadedDem dem = load(o.dem);
         const auto start = std::chrono::steady_clock::now();
-        const MapRaster horizon = horizonMap(dem.grid, o.azimuthDeg * kRadiansPerDegree, method, o.threads);
+        const MapRaster horizon = horizonMap(dem.grid, radians(o.azimuthDeg), method, o.threads);
         writeVertexRaster(o.output, dem, horizon, RasterType::Float32, -9999.0);
         printRasterSummary("horizon angles", o.output, horizon, start);
         return 0;

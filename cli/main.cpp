@@ -2,7 +2,7 @@
 // one library function per subcommand.
 #include "cli/commands.h"
 
-#include "tracer/cancel.h"
+#include "tracer/core/cancel.h"
 
 #include <CLI/CLI.hpp>
 #include <csignal>

@@ -3,7 +3,7 @@
 
 #include "heightfield/cell_intersectors.h"
 #include "loaders/dem_loader.h"
-#include "loaders/errors.h"
+#include "tracer/core/errors.h"
 #include "loaders/scene_file.h"
 
 #include <fmt/format.h>

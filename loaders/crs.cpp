@@ -1,6 +1,6 @@
 #include "loaders/crs.h"
 
-#include "loaders/errors.h"
+#include "tracer/core/errors.h"
 
 #include <cpl_error.h>
 #include <ogr_spatialref.h>

@@ -6,9 +6,11 @@
 // metres on the tangent plane at their centre latitude, using the WGS84 meridional and prime-vertical radii
 // of curvature (Snyder 1987, "Map Projections: A Working Manual", USGS Professional Paper 1395).
 #include "loaders/loader_support.h"
+
+#include "tracer/core/angles.h"
 #include "loaders/dem_loader.h"
 
-#include "loaders/errors.h"
+#include "tracer/core/errors.h"
 
 #include <OpenImageIO/imageio.h>
 #include <cpl_error.h>
@@ -26,7 +28,6 @@
 #include <unistd.h>
 #include <fstream>
 #include <mutex>
-#include <numbers>
 #include <string_view>
 
 namespace terracast {
@@ -189,7 +190,7 @@ Lattice georeference(const std::string& path, GDALDataset& dataset, const DemLoa
 
     if (srs->IsGeographic()) {
         geo.geographic = true;
-        const double degreesPerUnit = srs->GetAngularUnits(nullptr) * 180.0 / std::numbers::pi;
+        const double degreesPerUnit = degrees(srs->GetAngularUnits(nullptr));
         const double centreLatDeg = (gt[3] + 0.5 * static_cast<double>(height) * gt[5]) * degreesPerUnit;
         // Meridians converge at a pole, so no flat local frame holds a raster that reaches one.
         const double edgeLat0 = gt[3] * degreesPerUnit, edgeLat1 = (gt[3] + static_cast<double>(height) * gt[5]) * degreesPerUnit;
@@ -489,12 +490,12 @@ MetresPerDegree metresPerDegree(double latDeg) {
     constexpr double a = 6378137.0;            // WGS84 semi-major axis (m)
     constexpr double f = 1.0 / 298.257223563;  // WGS84 flattening
     constexpr double e2 = f * (2.0 - f);       // first eccentricity squared
-    const double phi = latDeg * std::numbers::pi / 180.0;
+    const double phi = radians(latDeg);
     const double s = std::sin(phi);
     const double w = 1.0 - e2 * s * s;
     const double meridionalM = a * (1.0 - e2) / (w * std::sqrt(w));
     const double primeVerticalM = a / std::sqrt(w);
-    constexpr double radiansPerDegree = std::numbers::pi / 180.0;
+    const double radiansPerDegree = radians(1.0);
     return {meridionalM * radiansPerDegree, primeVerticalM * std::cos(phi) * radiansPerDegree};
 }
 

@@ -3,7 +3,7 @@
 #include "loaders/loader_support.h"
 #include "loaders/image_io.h"
 
-#include "loaders/errors.h"
+#include "tracer/core/errors.h"
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>

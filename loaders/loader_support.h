@@ -1,7 +1,7 @@
 // Helpers shared by the loaders' sources (internal: only loaders/*.cpp include this; it pulls in GDAL).
 #pragma once
 
-#include "loaders/errors.h"
+#include "tracer/core/errors.h"
 
 #include <cpl_error.h>
 #include <fmt/format.h>

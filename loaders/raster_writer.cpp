@@ -4,7 +4,7 @@
 #include "loaders/loader_support.h"
 #include "loaders/raster_writer.h"
 
-#include "loaders/errors.h"
+#include "tracer/core/errors.h"
 
 #include <cpl_error.h>
 #include <cpl_string.h>

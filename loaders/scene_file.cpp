@@ -5,7 +5,7 @@
 // key or value, what was expected and what was found. docs/scene-format.md is the reference for the format.
 #include "loaders/scene_file.h"
 
-#include "loaders/errors.h"
+#include "tracer/core/errors.h"
 #include "tracer/surface.h"
 
 #include <fmt/format.h>

@@ -1,5 +1,7 @@
 #include "tracer/accuracy.h"
 
+#include "tracer/core/angles.h"
+
 #include "tracer/camera.h"
 
 #include <algorithm>
@@ -47,7 +49,7 @@ std::vector<TestRay> makeRays(const HeightGrid& g, const AccuracyOptions& o, Acc
         const glm::dvec3 n = p->normal;
         const glm::dvec3 a = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
         const glm::dvec3 t1 = glm::normalize(glm::cross(n, a)), t2 = glm::cross(n, t1);
-        const double phi = 2.0 * M_PI * U(rng);
+        const double phi = 2.0 * kPi * U(rng);
         const glm::dvec3 tangent = std::cos(phi) * t1 + std::sin(phi) * t2;
         const glm::dvec3 dir = glm::normalize(tangent - 0.05 * U(rng) * n);
         const glm::dvec3 origin = p->pointM - 5.0 * cell * dir + (0.02 * cell * U(rng)) * n;
@@ -57,8 +59,8 @@ std::vector<TestRay> makeRays(const HeightGrid& g, const AccuracyOptions& o, Acc
     while (int64_t(rays.size()) < o.rays) {
         const auto p = randomSurfacePoint(g, rng);
         if (!p) break;
-        const double az = 2.0 * M_PI * U(rng), el = (2.0 + 58.0 * U(rng)) * M_PI / 180.0;
-        const glm::dvec3 toSun{std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el)};
+        const double az = 2.0 * kPi * U(rng), el = radians(2.0 + 58.0 * U(rng));
+        const glm::dvec3 toSun = directionFromRadians(az, el);
         // Every method traces this same ray, so it starts clear of all their surfaces' rounding: a hundredth
         // of a cell above the reference surface along its normal.
         const glm::dvec3 n = glm::dot(p->normal, toSun) >= 0.0 ? p->normal : -p->normal;

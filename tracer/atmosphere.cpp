@@ -1,5 +1,7 @@
 #include "tracer/atmosphere.h"
 
+#include "tracer/core/angles.h"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -9,7 +11,6 @@ namespace terracast {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 double clampCosine(double mu) { return std::clamp(mu, -1.0, 1.0); }
 

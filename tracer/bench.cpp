@@ -1,5 +1,7 @@
 #include "tracer/bench.h"
 
+#include "tracer/core/angles.h"
+
 #include "tracer/compare.h"
 #include "tracer/terrain_renderer.h"
 
@@ -39,7 +41,6 @@ const MethodInfo& info(BenchMethod m) {
     return kMethods[0];
 }
 
-constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
 
 void setFlushModes() {
 #ifdef TERRACAST_HAVE_MXCSR
@@ -89,7 +90,7 @@ PinholeCamera benchCamera(const HeightGrid& grid, BenchCamera camera, double asp
     heading = glm::length(heading) > 1e-6 * across ? glm::normalize(heading) : glm::dvec2(std::sqrt(0.5));
     // "Just above": clear of the peak by a hundredth of the relief, and by at least a metre.
     const double clearanceM = std::max(1.0, 0.01 * (double(grid.maxHeightM()) - grid.minHeightM()));
-    const double pitch = 8.0 * kRadiansPerDegree;
+    const double pitch = radians(8.0);
     PinholeCamera cam;
     cam.eyeM = {peakM.x, peakM.y, double(top) + clearanceM};
     cam.lookAtM = cam.eyeM + glm::dvec3(heading.x * std::cos(pitch), heading.y * std::cos(pitch), -std::sin(pitch));

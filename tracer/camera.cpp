@@ -1,13 +1,13 @@
 #include "tracer/camera.h"
 
+#include "tracer/core/angles.h"
+
 #include <cmath>
 #include <sstream>
 
 namespace terracast {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
-double radians(double deg) { return deg * kPi / 180.0; }
 }  // namespace
 
 Ray PinholeCamera::generate(double fx, double fy, double aspect) const {

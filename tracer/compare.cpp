@@ -1,6 +1,6 @@
 #include "tracer/compare.h"
 
-#include "tracer/parallel.h"
+#include "tracer/core/parallel.h"
 
 #include <algorithm>
 #include <array>

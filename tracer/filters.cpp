@@ -1,5 +1,7 @@
 #include "tracer/filters.h"
 
+#include <glm/gtc/constants.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -12,11 +14,10 @@ constexpr std::pair<FilterKind, const char*> kFilterNames[] = {
     {FilterKind::Tent, "tent"},
     {FilterKind::Gaussian, "gaussian"},
 };
-constexpr double kPi = 3.14159265358979323846;
 
 // The integral of exp(-alpha x^2) - exp(-alpha r^2) over [-r, r].
 double gaussianIntegral(double radius, double alpha) {
-    return std::sqrt(kPi / alpha) * std::erf(std::sqrt(alpha) * radius) - 2.0 * radius * std::exp(-alpha * radius * radius);
+    return std::sqrt(glm::pi<double>() / alpha) * std::erf(std::sqrt(alpha) * radius) - 2.0 * radius * std::exp(-alpha * radius * radius);
 }
 }  // namespace
 

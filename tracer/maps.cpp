@@ -1,6 +1,8 @@
 #include "tracer/maps.h"
 
-#include "tracer/parallel.h"
+#include "tracer/core/angles.h"
+
+#include "tracer/core/parallel.h"
 
 #include <cmath>
 #include <limits>
@@ -9,7 +11,6 @@
 namespace terracast {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 // Calls f(i, j) for every vertex of the grid, in parallel tiles.
@@ -38,10 +39,6 @@ std::optional<HeightFieldHit> surfacePointAt(const HeightGrid& grid, double xM, 
     return intersect(grid, Ray{{xM, yM, top}, {0.0, 0.0, -1.0}}, {0.0, kInfinity}, method);
 }
 
-glm::dvec3 directionFromAngles(double azimuthRad, double elevationRad) {
-    return {std::sin(azimuthRad) * std::cos(elevationRad), std::cos(azimuthRad) * std::cos(elevationRad),
-            std::sin(elevationRad)};
-}
 
 bool blockedFrom(const HeightGrid& grid, const HeightFieldHit& at, const glm::dvec3& dir, CellMethod method) {
     // A direction at or below the local tangent plane is blocked by the surface itself.
@@ -52,10 +49,10 @@ bool blockedFrom(const HeightGrid& grid, const HeightFieldHit& at, const glm::dv
 double horizonAngleRad(const HeightGrid& grid, const HeightFieldHit& at, double azimuthRad, CellMethod method,
                        double toleranceRad) {
     double lo = -0.5 * kPi, hi = 0.5 * kPi;
-    if (!blockedFrom(grid, at, directionFromAngles(azimuthRad, lo + 1e-9), method)) return lo;
+    if (!blockedFrom(grid, at, directionFromRadians(azimuthRad, lo + 1e-9), method)) return lo;
     while (hi - lo > toleranceRad) {
         const double mid = 0.5 * (lo + hi);
-        if (blockedFrom(grid, at, directionFromAngles(azimuthRad, mid), method)) lo = mid;
+        if (blockedFrom(grid, at, directionFromRadians(azimuthRad, mid), method)) lo = mid;
         else hi = mid;
     }
     return hi;
@@ -63,7 +60,7 @@ double horizonAngleRad(const HeightGrid& grid, const HeightFieldHit& at, double 
 
 MapRaster shadowMask(const HeightGrid& grid, double azimuthRad, double elevationRad, CellMethod method,
                      double sunRadiusRad, int samples, int threads) {
-    const glm::dvec3 centre = directionFromAngles(azimuthRad, elevationRad);
+    const glm::dvec3 centre = directionFromRadians(azimuthRad, elevationRad);
     std::vector<glm::dvec3> dirs{centre};
     if (sunRadiusRad > 0.0) {
         // Stratified directions over the sun's disc: n x n strata in (radius^2, angle).
@@ -90,7 +87,7 @@ MapRaster horizonMap(const HeightGrid& grid, double azimuthRad, CellMethod metho
     return perVertex(grid, threads, [&](int64_t i, int64_t j) {
         const auto at = vertexPoint(grid, i, j, method);
         if (!at) return kNaN;
-        return float(horizonAngleRad(grid, *at, azimuthRad, method) * 180.0 / kPi);
+        return float(degrees(horizonAngleRad(grid, *at, azimuthRad, method)));
     });
 }
 

@@ -1,5 +1,7 @@
 #include "tracer/primitives.h"
 
+#include "tracer/core/angles.h"
+
 #include <cmath>
 #include <limits>
 
@@ -76,7 +78,6 @@ bool SpherePrimitive::intersect(const Ray& ray, Interval interval, SurfaceHit& h
     hit.normal = glm::normalize(hit.point - centre_);
     hit.point = centre_ + radius_ * hit.normal;  // reprojected onto the sphere
     hit.errorM = pointError(hit.point, radius_);
-    constexpr double kPi = 3.14159265358979323846;
     hit.uv = {0.5 + std::atan2(hit.normal.y, hit.normal.x) / (2.0 * kPi), std::acos(std::clamp(hit.normal.z, -1.0, 1.0)) / kPi};
     return true;
 }

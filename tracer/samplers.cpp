@@ -376,7 +376,7 @@ std::vector<glm::dvec3> bestCandidateDirections(int n, double cosThetaMax, uint6
     // cells fill a volume while the points lie on a surface).
     const double sinMax = cosThetaMax <= 0.0 ? 1.0 : std::sqrt((1.0 - cosThetaMax) * (1.0 + cosThetaMax));
     const double extent = std::max({2.0 * sinMax, 1.0 - cosThetaMax, 1e-12});
-    const double spacing = std::sqrt(2.0 * kSamplingPi * (1.0 - cosThetaMax) / n);
+    const double spacing = std::sqrt(2.0 * glm::pi<double>() * (1.0 - cosThetaMax) / n);
     const int side = std::clamp(int(std::ceil(extent / std::max(spacing, 1e-12))), 1, 64);
     NearestGrid<3> grid(glm::dvec3(-sinMax, -sinMax, cosThetaMax), extent, side, false);
     RandomStream stream(seed, 0, 0, 0xd1ec7ull);

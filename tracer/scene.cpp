@@ -1,13 +1,13 @@
 #include "tracer/scene.h"
 
+#include "tracer/core/angles.h"
+
 #include <cmath>
 #include <stdexcept>
 
 namespace terracast {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
-double radians(double deg) { return deg * kPi / 180.0; }
 
 std::unique_ptr<Primitive> makePrimitive(const ObjectDescription& o, const SceneAssets& assets, size_t& nextGrid,
                                          const HeightFieldPrimitive* terrain, int threads) {
@@ -63,10 +63,6 @@ glm::vec3 DrapeImage::sample(double u, double v) const {
     return glm::mix(glm::mix(at(x0, y0), at(x1, y0), fx), glm::mix(at(x0, y1), at(x1, y1), fx), fy);
 }
 
-glm::dvec3 sunDirection(double azimuthDeg, double elevationDeg) {
-    const double az = radians(azimuthDeg), el = radians(elevationDeg);
-    return {std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el)};
-}
 
 MaterialDescription defaultMaterial(ObjectKind kind) {
     MaterialDescription m;
@@ -155,7 +151,7 @@ Scene::Scene(const SceneDescription& d, const SceneAssets& assets)
         SceneLight light;
         light.kind = l.kind;
         light.radiance = l.colour * l.intensity;
-        light.direction = sunDirection(l.azimuthDeg, l.elevationDeg);
+        light.direction = directionFromDegrees(l.azimuthDeg, l.elevationDeg);
         light.position = l.position;
         light.radiusM = l.radiusM;
         light.cosAngularRadius = std::cos(radians(l.angularRadiusDeg));

@@ -92,8 +92,6 @@ private:
     const HeightFieldPrimitive* terrain_ = nullptr;
 };
 
-// The unit vector towards a sun at this compass azimuth (clockwise from north) and elevation (degrees).
-glm::dvec3 sunDirection(double azimuthDeg, double elevationDeg);
 
 // The default material of an object kind when its description names none: grey Phong for solids, clear
 // water for water, elevation colouring for terrain.

@@ -1,5 +1,7 @@
 #include "tracer/scene_camera.h"
 
+#include "tracer/core/angles.h"
+
 #include "tracer/warps.h"
 
 #include <cmath>
@@ -7,8 +9,6 @@
 namespace terracast {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
-double radians(double deg) { return deg * kPi / 180.0; }
 }  // namespace
 
 SceneCamera::SceneCamera(const CameraDescription& description, const glm::dvec3& eye, const glm::dvec3& lookAt,

@@ -1,7 +1,9 @@
 #include "tracer/scene_renderer.h"
 
+#include "tracer/core/angles.h"
+
 #include "tracer/optics.h"
-#include "tracer/parallel.h"
+#include "tracer/core/parallel.h"
 #include "tracer/rng.h"
 #include "tracer/terrain_renderer.h"
 #include "tracer/warps.h"
@@ -17,7 +19,6 @@ namespace terracast {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Shadow rays through dielectrics pass at most this many interfaces before the light counts as blocked.
 constexpr int kMaxShadowInterfaces = 16;
 
@@ -26,7 +27,7 @@ float maxComponent(const glm::vec3& v) { return std::max({v.r, v.g, v.b}); }
 glm::vec3 slopeAlbedo(double normalZ) {
     // Grass on gentle slopes, scree on steeper ones, bare rock on cliffs.
     const glm::vec3 grass{0.22f, 0.36f, 0.15f}, scree{0.45f, 0.40f, 0.33f}, rock{0.38f, 0.37f, 0.36f};
-    const double slopeDeg = std::acos(std::clamp(normalZ, -1.0, 1.0)) * 180.0 / kPi;
+    const double slopeDeg = degrees(std::acos(std::clamp(normalZ, -1.0, 1.0)));
     if (slopeDeg < 20.0) return glm::mix(grass, scree, float(slopeDeg / 20.0) * 0.3f);
     if (slopeDeg < 40.0) return glm::mix(glm::mix(grass, scree, 0.3f), scree, float((slopeDeg - 20.0) / 20.0));
     return glm::mix(scree, rock, float(std::min(1.0, (slopeDeg - 40.0) / 20.0)));
@@ -421,7 +422,7 @@ SceneCamera makeSceneCamera(const Scene& scene, const CameraDescription& d, doub
         Bounds3 box = scene.bounds();
         if (!box.finite()) box = {glm::dvec3(-1.0), glm::dvec3(1.0)};
         const glm::dvec3 centre = box.centre();
-        const double pitch = 30.0 * kPi / 180.0, azimuth = 45.0 * kPi / 180.0;
+        const double pitch = radians(30.0), azimuth = radians(45.0);
         glm::dvec3 forward{std::sin(azimuth) * std::cos(pitch), std::cos(azimuth) * std::cos(pitch), -std::sin(pitch)};
         if (d.lookAt && !d.eye) forward = glm::normalize(*d.lookAt - centre + forward * 1e-9);
         const double tanV = std::tan(d.fovDeg * kPi / 360.0), tanH = tanV * aspect;

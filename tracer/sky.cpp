@@ -1,5 +1,7 @@
 #include "tracer/sky.h"
 
+#include "tracer/core/angles.h"
+
 #include "tracer/terrain_renderer.h"
 #include "tracer/warps.h"
 
@@ -10,7 +12,6 @@
 namespace terracast {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 }  // namespace
 
 glm::dvec2 skyVisibilityPoint(int i, int n, const glm::dvec2& shift) {

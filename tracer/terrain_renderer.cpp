@@ -1,6 +1,8 @@
 #include "tracer/terrain_renderer.h"
 
-#include "tracer/parallel.h"
+#include "tracer/core/angles.h"
+
+#include "tracer/core/parallel.h"
 #include "tracer/rng.h"
 #include "tracer/sky.h"
 #include "tracer/warps.h"
@@ -13,14 +15,12 @@
 namespace terracast {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 glm::vec3 mix(const glm::vec3& a, const glm::vec3& b, float w) { return a + (b - a) * w; }
 }  // namespace
 
 glm::dvec3 Sun::direction() const {
-    const double az = azimuthDeg * kPi / 180.0, el = elevationDeg * kPi / 180.0;
-    return {std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el)};
+    return directionFromDegrees(azimuthDeg, elevationDeg);
 }
 
 glm::vec3 gradientSky(const glm::dvec3& dir) {

@@ -10,7 +10,7 @@ namespace {
 // (1 - c)(1 + c) rather than 1 - c^2, which keeps its precision for the tiny cones of the sun's disc.
 glm::dvec3 directionAround(double cosTheta, double oneMinusCos, double v) {
     const double sinTheta = std::sqrt(std::max(0.0, oneMinusCos * (1.0 + cosTheta)));
-    const double phi = 2.0 * kSamplingPi * v;
+    const double phi = 2.0 * glm::pi<double>() * v;
     return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
 }
 }  // namespace
@@ -34,10 +34,10 @@ glm::dvec2 squareToConcentricDisk(glm::dvec2 u) {
     double r, phi;
     if (std::abs(a.x) > std::abs(a.y)) {
         r = a.x;
-        phi = (kSamplingPi / 4.0) * (a.y / a.x);
+        phi = (glm::pi<double>() / 4.0) * (a.y / a.x);
     } else {
         r = a.y;
-        phi = kSamplingPi / 2.0 - (kSamplingPi / 4.0) * (a.x / a.y);
+        phi = glm::pi<double>() / 2.0 - (glm::pi<double>() / 4.0) * (a.x / a.y);
     }
     return {r * std::cos(phi), r * std::sin(phi)};
 }
@@ -49,7 +49,7 @@ glm::dvec3 squareToUniformCone(glm::dvec2 u, double cosThetaMax) {
     return directionAround(1.0 - oneMinusCos, oneMinusCos, u.y);
 }
 
-double uniformConePdf(double cosThetaMax) { return 1.0 / (2.0 * kSamplingPi * (1.0 - cosThetaMax)); }
+double uniformConePdf(double cosThetaMax) { return 1.0 / (2.0 * glm::pi<double>() * (1.0 - cosThetaMax)); }
 
 double sphereConeCosine(double distance, double radius) {
     if (distance <= radius) return -1.0;
@@ -66,7 +66,7 @@ glm::dvec3 squareToPhongLobe(glm::dvec2 u, double exponent) {
 
 double phongLobePdf(double cosTheta, double exponent) {
     if (cosTheta <= 0.0) return 0.0;
-    return (exponent + 1.0) / (2.0 * kSamplingPi) * std::pow(cosTheta, exponent);
+    return (exponent + 1.0) / (2.0 * glm::pi<double>()) * std::pow(cosTheta, exponent);
 }
 
 glm::dvec3 squareToCosineHemisphere(glm::dvec2 u) {
@@ -74,6 +74,6 @@ glm::dvec3 squareToCosineHemisphere(glm::dvec2 u) {
     return {d.x, d.y, std::sqrt(std::max(0.0, 1.0 - glm::dot(d, d)))};
 }
 
-double cosineHemispherePdf(double cosTheta) { return cosTheta > 0.0 ? cosTheta / kSamplingPi : 0.0; }
+double cosineHemispherePdf(double cosTheta) { return cosTheta > 0.0 ? cosTheta / glm::pi<double>() : 0.0; }
 
 }  // namespace terracast

@@ -6,10 +6,9 @@
 #pragma once
 
 #include <glm/glm.hpp>
+#include <glm/gtc/constants.hpp>
 
 namespace terracast {
-
-inline constexpr double kSamplingPi = 3.14159265358979323846;
 
 // A right-handed orthonormal frame (s, t, n) around a unit axis n, to turn directions sampled around +z
 // into directions around any axis.
@@ -35,7 +34,7 @@ glm::dvec2 squareToConcentricDisk(glm::dvec2 u);
 // The unit sphere, uniform by solid angle (pdf 1 / (4 pi)): z uniform in [-1, 1] (Archimedes' hat-box
 // theorem), azimuth uniform.
 glm::dvec3 squareToUniformSphere(glm::dvec2 u);
-inline double uniformSpherePdf() { return 1.0 / (4.0 * kSamplingPi); }
+inline double uniformSpherePdf() { return 1.0 / (4.0 * glm::pi<double>()); }
 
 // The spherical cap of directions within an angle theta_max of +z, uniform by solid angle: cos(theta)
 // uniform in [cos theta_max, 1]. cosThetaMax = 0 is the hemisphere, -1 the whole sphere. u.x = 0 gives

@@ -2,7 +2,7 @@
 // published extents; pixels are cross-checked by reading them independently with GDAL and OpenImageIO.
 #include "support/temp_dir.h"
 #include "loaders/dem_loader.h"
-#include "loaders/errors.h"
+#include "tracer/core/errors.h"
 
 #include <OpenImageIO/imageio.h>
 #include <catch2/catch.hpp>

@@ -1,7 +1,7 @@
 // Image writing and reading: round trips through PNG and EXR, the sRGB encoding of stored bytes, and failures
 // that must leave no file behind.
 #include "support/temp_dir.h"
-#include "loaders/errors.h"
+#include "tracer/core/errors.h"
 #include "loaders/image_io.h"
 
 #include <OpenImageIO/imageio.h>

@@ -3,7 +3,7 @@
 // bad paths and sizes fail without leaving a file. Files are read back with GDAL directly.
 #include "support/temp_dir.h"
 #include "loaders/dem_loader.h"
-#include "loaders/errors.h"
+#include "tracer/core/errors.h"
 #include "loaders/raster_writer.h"
 
 #include <catch2/catch.hpp>

@@ -4,7 +4,7 @@
 // OGR's transformation of the split line into the DEM's CRS.
 #include "support/temp_dir.h"
 #include "loaders/dem_loader.h"
-#include "loaders/errors.h"
+#include "tracer/core/errors.h"
 #include "loaders/scene_assets.h"
 #include "tracer/scene_renderer.h"
 

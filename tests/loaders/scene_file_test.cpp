@@ -2,7 +2,7 @@
 // LINE:COL can be read off the text; expected structs come from the values written and from the documented
 // defaults of scene_description.h. Files a scene names are created in a temporary folder.
 #include "support/temp_dir.h"
-#include "loaders/errors.h"
+#include "tracer/core/errors.h"
 #include "loaders/scene_file.h"
 
 #include <catch2/catch.hpp>

@@ -1,5 +1,6 @@
 // The single-scattering atmosphere against direct numerical integration, and the qualitative physics of a
 // clear sky as assertions.
+#include "tracer/core/angles.h"
 #include "tracer/atmosphere.h"
 
 #include "tracer/scene.h"
@@ -13,10 +14,9 @@ using namespace terracast;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // A unit direction by compass azimuth and elevation, degrees.
-glm::dvec3 fromAngles(double azimuthDeg, double elevationDeg) { return sunDirection(azimuthDeg, elevationDeg); }
+glm::dvec3 fromAngles(double azimuthDeg, double elevationDeg) { return directionFromDegrees(azimuthDeg, elevationDeg); }
 
 double maxRelativeError(const glm::dvec3& value, const glm::dvec3& reference) {
     double worst = 0.0;

@@ -25,12 +25,12 @@ PowerLawFit errorRate(SamplePattern pattern, const std::function<double(glm::dve
 }
 
 // Smooth: sin(pi x) sin(pi y), integral 4 / pi^2.
-double smooth(glm::dvec2 p) { return std::sin(kSamplingPi * p.x) * std::sin(kSamplingPi * p.y); }
-const double kSmoothIntegral = 4.0 / (kSamplingPi * kSamplingPi);
+double smooth(glm::dvec2 p) { return std::sin(glm::pi<double>() * p.x) * std::sin(glm::pi<double>() * p.y); }
+const double kSmoothIntegral = 4.0 / (glm::pi<double>() * glm::pi<double>());
 
 // Discontinuous: the indicator of a disk of radius 0.3 inside the square, integral 0.09 pi.
 double disk(glm::dvec2 p) { return glm::length(p - glm::dvec2(0.45, 0.52)) < 0.3 ? 1.0 : 0.0; }
-const double kDiskIntegral = 0.09 * kSamplingPi;
+const double kDiskIntegral = 0.09 * glm::pi<double>();
 
 }  // namespace
 

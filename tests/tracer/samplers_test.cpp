@@ -69,7 +69,7 @@ double bandPower(const std::vector<glm::dvec2>& points, double fMin, double fMax
             const double f2 = double(fx) * fx + double(fy) * fy;
             if (f2 < fMin * fMin || f2 >= fMax * fMax) continue;
             std::complex<double> s = 0.0;
-            for (const glm::dvec2& p : points) s += std::polar(1.0, -2.0 * kSamplingPi * (fx * p.x + fy * p.y));
+            for (const glm::dvec2& p : points) s += std::polar(1.0, -2.0 * glm::pi<double>() * (fx * p.x + fy * p.y));
             sum += std::norm(s) / double(points.size());
             ++count;
         }
@@ -200,9 +200,9 @@ TEST_CASE("Poisson disk point counts lie within the packing bounds and near the 
             // grown by r/2, a convex quadrilateral, where the same bound holds (Fejes Toth, for convex polygons of
             // at most six sides).
             const double room = toroidal ? 1.0 : (1.0 + r) * (1.0 + r);
-            CHECK(n * kSamplingPi * r * r / 4.0 <= kSamplingPi / (2.0 * std::sqrt(3.0)) * room);
+            CHECK(n * glm::pi<double>() * r * r / 4.0 <= glm::pi<double>() / (2.0 * std::sqrt(3.0)) * room);
             // Disks of radius 2r around the points cover the unit square (previous test).
-            CHECK(n * kSamplingPi * 4.0 * r * r >= 1.0);
+            CHECK(n * glm::pi<double>() * 4.0 * r * r >= 1.0);
         }
     // The calibrated radius gives counts within 10 % of the request (mean of 8 runs within 3 %).
     for (bool toroidal : {false, true})
@@ -269,8 +269,8 @@ TEST_CASE("Best-candidate directions are unit vectors spread far wider than rand
         for (uint64_t seed = 1; seed <= 8; ++seed) randomAngle += minPairAngle(randomDirections(n, cosMax, seed)) / 8;
         const double bestAngle = minPairAngle(best);
         // The angle that n equal caps would each get if they tiled the cap's solid angle.
-        const double solidAngle = 2.0 * kSamplingPi * (1.0 - cosMax);
-        const double tileAngle = 2.0 * std::sqrt(solidAngle / (n * kSamplingPi));
+        const double solidAngle = 2.0 * glm::pi<double>() * (1.0 - cosMax);
+        const double tileAngle = 2.0 * std::sqrt(solidAngle / (n * glm::pi<double>()));
         INFO("cos max " << cosMax << ": best-candidate " << bestAngle << " rad, random (mean of 8) " << randomAngle
                         << " rad, tile " << tileAngle << " rad");
         CHECK(bestAngle > 5.0 * randomAngle);
@@ -292,7 +292,7 @@ TEST_CASE("Best-candidate points in the square are well spread, and so is every 
         INFO("first " << n << ": best-candidate " << best << ", random " << random);
         CHECK(best > 4.0 * random);
         // Within the hexagonal packing bound: n disks of radius best/2 fit in the unit torus.
-        CHECK(n * kSamplingPi * best * best / 4.0 <= kSamplingPi / (2.0 * std::sqrt(3.0)));
+        CHECK(n * glm::pi<double>() * best * best / 4.0 <= glm::pi<double>() / (2.0 * std::sqrt(3.0)));
     }
 }
 

@@ -1,5 +1,6 @@
 // The render's sky: sunlight through the air, sky light through the open part of the hemisphere, aerial
 // perspective, and the rays each sky setting costs.
+#include "tracer/core/angles.h"
 #include "tracer/scene_renderer.h"
 #include "tracer/sky.h"
 #include "tracer/terrain_renderer.h"
@@ -16,7 +17,7 @@ namespace {
 
 
 // A unit direction by compass azimuth and elevation, degrees.
-glm::dvec3 fromAngles(double azimuthDeg, double elevationDeg) { return sunDirection(azimuthDeg, elevationDeg); }
+glm::dvec3 fromAngles(double azimuthDeg, double elevationDeg) { return directionFromDegrees(azimuthDeg, elevationDeg); }
 
 SkyDescription physical() {
     SkyDescription d;

@@ -14,7 +14,7 @@ using namespace terracast::testing;
 
 namespace {
 
-constexpr double kPi = kSamplingPi;
+constexpr double kPi = glm::pi<double>();
 constexpr int kDraws = 200000;
 
 // The mean of g over kDraws random points of the square, with its standard error.

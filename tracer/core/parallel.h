@@ -1,7 +1,7 @@
 // Parallelism behind one helper, so render loops read sequentially.
 #pragma once
 
-#include "tracer/cancel.h"
+#include "tracer/core/cancel.h"
 
 #include <tbb/blocked_range2d.h>
 #include <tbb/global_control.h>
