@@ -1,7 +1,7 @@
 // Costs of the sampling library: building precomputed patterns, drawing per-pixel samples, warping.
-#include "tracer/rng.h"
-#include "tracer/samplers.h"
-#include "tracer/warps.h"
+#include "tracer/sampling/rng.h"
+#include "tracer/sampling/samplers.h"
+#include "tracer/sampling/warps.h"
 
 #include <benchmark/benchmark.h>
 

@@ -4,7 +4,7 @@
 
 #include "heightfield/height_grid.h"
 #include "tracer/accuracy.h"
-#include "tracer/film.h"
+#include "tracer/sampling/film.h"
 #include "tracer/surface.h"
 #include "tracer/terrain_renderer.h"
 

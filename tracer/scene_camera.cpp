@@ -2,7 +2,7 @@
 
 #include "tracer/core/angles.h"
 
-#include "tracer/warps.h"
+#include "tracer/sampling/warps.h"
 
 #include <cmath>
 

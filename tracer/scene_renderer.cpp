@@ -4,9 +4,9 @@
 
 #include "tracer/optics.h"
 #include "tracer/core/parallel.h"
-#include "tracer/rng.h"
+#include "tracer/sampling/rng.h"
 #include "tracer/terrain_renderer.h"
-#include "tracer/warps.h"
+#include "tracer/sampling/warps.h"
 
 #include <atomic>
 #include <chrono>

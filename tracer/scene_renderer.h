@@ -2,10 +2,10 @@
 // Fresnel with total internal reflection, Beer-Lambert absorption inside media, a sky for escaping rays.
 #pragma once
 
-#include "tracer/adaptive.h"
-#include "tracer/film.h"
-#include "tracer/filters.h"
-#include "tracer/samplers.h"
+#include "tracer/sampling/adaptive.h"
+#include "tracer/sampling/film.h"
+#include "tracer/sampling/filters.h"
+#include "tracer/sampling/samplers.h"
 #include "tracer/scene.h"
 #include "tracer/scene_camera.h"
 #include "tracer/sky.h"

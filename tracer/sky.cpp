@@ -3,7 +3,7 @@
 #include "tracer/core/angles.h"
 
 #include "tracer/terrain_renderer.h"
-#include "tracer/warps.h"
+#include "tracer/sampling/warps.h"
 
 #include <cmath>
 #include <map>

@@ -5,7 +5,7 @@
 
 #include "tracer/atmosphere.h"
 #include "tracer/scene_description.h"
-#include "tracer/warps.h"
+#include "tracer/sampling/warps.h"
 
 #include <glm/glm.hpp>
 

@@ -3,9 +3,9 @@
 #include "tracer/core/angles.h"
 
 #include "tracer/core/parallel.h"
-#include "tracer/rng.h"
+#include "tracer/sampling/rng.h"
 #include "tracer/sky.h"
-#include "tracer/warps.h"
+#include "tracer/sampling/warps.h"
 
 #include <atomic>
 #include <chrono>

@@ -6,7 +6,7 @@
 #include "heightfield/height_grid.h"
 #include "heightfield/traversal.h"
 #include "tracer/camera.h"
-#include "tracer/film.h"
+#include "tracer/sampling/film.h"
 #include "tracer/scene_description.h"
 #include "tracer/surface.h"
 

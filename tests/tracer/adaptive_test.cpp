@@ -1,7 +1,7 @@
 // Adaptive sampling: Welford's running statistics against exact values, and the stop rule against the
 // sample count the standard-error formula predicts.
-#include "tracer/adaptive.h"
-#include "tracer/rng.h"
+#include "tracer/sampling/adaptive.h"
+#include "tracer/sampling/rng.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,7 +1,7 @@
 // Convergence of sampled integrals: the power-law fit itself, then the error rates of the patterns on a
 // smooth and on a discontinuous integrand over the unit square (exact integrals known).
-#include "tracer/convergence.h"
-#include "tracer/warps.h"
+#include "support/convergence.h"
+#include "tracer/sampling/warps.h"
 
 #include <catch2/catch.hpp>
 

@@ -3,7 +3,7 @@
 // the shutter and the smear of a moving camera, the blur of a point off the focus plane, the spread of glossy
 // reflections, how fast soft-shadow noise falls with the sample count, pixel filters across an edge, and the
 // sample counts of adaptive sampling.
-#include "tracer/convergence.h"
+#include "support/convergence.h"
 #include "tracer/scene_renderer.h"
 
 #include <catch2/catch.hpp>

@@ -1,6 +1,6 @@
 // Pixel filters: unit integral, symmetry, support; the weighted per-pixel average built on them.
-#include "tracer/filters.h"
-#include "tracer/rng.h"
+#include "tracer/sampling/filters.h"
+#include "tracer/sampling/rng.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,6 +1,6 @@
 // The counter-based random stream: reproducible from its key alone, different for different keys, uniform.
 #include "support/statistics.h"
-#include "tracer/rng.h"
+#include "tracer/sampling/rng.h"
 
 #include <catch2/catch.hpp>
 

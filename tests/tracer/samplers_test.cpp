@@ -1,9 +1,9 @@
 // Sample patterns: exact regular grids, one jittered point per stratum, Poisson disk spacing, maximality and
 // blue-noise spectrum, best-candidate spacing on the sphere, and the per-pixel sampler's decorrelation.
 #include "support/statistics.h"
-#include "tracer/rng.h"
-#include "tracer/samplers.h"
-#include "tracer/warps.h"
+#include "tracer/sampling/rng.h"
+#include "tracer/sampling/samplers.h"
+#include "tracer/sampling/warps.h"
 
 #include <catch2/catch.hpp>
 

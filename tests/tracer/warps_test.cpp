@@ -1,8 +1,8 @@
 // Warps from the square: they land where they should, preserve area where promised, and integrate known
 // functions to their analytic values.
 #include "support/statistics.h"
-#include "tracer/rng.h"
-#include "tracer/warps.h"
+#include "tracer/sampling/rng.h"
+#include "tracer/sampling/warps.h"
 
 #include <catch2/catch.hpp>
 

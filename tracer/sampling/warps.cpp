@@ -1,4 +1,4 @@
-#include "tracer/warps.h"
+#include "tracer/sampling/warps.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "tracer/filters.h"
+#include "tracer/sampling/filters.h"
 
 #include <glm/gtc/constants.hpp>
 

@@ -1,7 +1,7 @@
-#include "tracer/samplers.h"
+#include "tracer/sampling/samplers.h"
 
-#include "tracer/rng.h"
-#include "tracer/warps.h"
+#include "tracer/sampling/rng.h"
+#include "tracer/sampling/warps.h"
 
 #include <algorithm>
 #include <bit>

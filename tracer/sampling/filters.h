@@ -7,7 +7,7 @@
 // neighbouring pixels, so pixels can be rendered in any order on any thread without locks.
 #pragma once
 
-#include "tracer/film.h"
+#include "tracer/sampling/film.h"
 
 #include <glm/glm.hpp>
 

@@ -1,4 +1,4 @@
-#include "tracer/convergence.h"
+#include "support/convergence.h"
 
 #include <algorithm>
 #include <cmath>

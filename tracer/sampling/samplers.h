@@ -3,7 +3,7 @@
 // dimension), so pictures do not depend on thread count or tile order.
 #pragma once
 
-#include "tracer/rng.h"
+#include "tracer/sampling/rng.h"
 
 #include <glm/glm.hpp>
 

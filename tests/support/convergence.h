@@ -2,7 +2,7 @@
 // The tests of the samplers use it on a known integral; render tests use it against a high-sample reference.
 #pragma once
 
-#include "tracer/samplers.h"
+#include "tracer/sampling/samplers.h"
 
 #include <functional>
 #include <vector>
