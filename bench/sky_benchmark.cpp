@@ -1,9 +1,9 @@
 // Costs of the sky: table builds, a sky and an aerial-perspective lookup, and a terrain render under the
 // physical sky against the same render under a flat one (same rays, same sky-visibility samples).
 #include "loaders/dem_loader.h"
-#include "tracer/atmosphere.h"
+#include "tracer/sky/atmosphere.h"
 #include "tracer/camera.h"
-#include "tracer/sky.h"
+#include "tracer/sky/sky.h"
 #include "tracer/surface.h"
 #include "tracer/terrain_renderer.h"
 

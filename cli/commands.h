@@ -6,6 +6,7 @@
 #include "heightfield/traversal.h"
 #include "tracer/bench.h"
 #include "tracer/surface.h"
+#include "tracer/sky/calendar.h"
 
 #include <cstdint>
 #include <string>
@@ -50,7 +51,7 @@ struct RenderOptions {
                                                // visibility; -1 = default, 4 in perspective, 16 in the map view
     std::string sky = "physical";              // perspective: physical, gradient, flat or none
     double haze = 1.0;                         // physical sky: multiplies Mie (aerosol) scattering
-    std::string sunTime;                       // ISO 8601 instant: puts the sun where it stands then over the DEM
+    std::optional<UtcInstant> sunTime;         // puts the sun where it stands then over the DEM
     uint64_t seed = 0;                         // sky-visibility directions
     bool colourRamp = false;                   // map view: elevation colours instead of grey
     double hillshadeBlend = 0.0;               // map view: weight of a plain hillshade, 0..1

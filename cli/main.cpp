@@ -120,7 +120,7 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--threads", render.threads, "Worker threads, 0 = all cores (default 0)")
         ->check(CLI::NonNegativeNumber);
     renderCmd->add_flag("-q,--quiet", render.quiet, "No progress or summary on stderr");
-    std::string view = "perspective", colour = "grey";
+    std::string view = "perspective", colour = "grey", sunTime;
     bool noShadows = false;
     renderCmd->add_option("--view", view,
                           "perspective (default), or map: top-down on the DEM's grid, written as GeoTIFF (.tif) or PNG");
@@ -132,7 +132,7 @@ int main(int argc, char** argv) {
                           "Sky: physical (Rayleigh and Mie scattering with aerial perspective; default), gradient, "
                           "flat or none");
     renderCmd->add_option("--haze", render.haze, "Physical sky: multiplies aerosol (Mie) scattering (default 1)");
-    renderCmd->add_option("--sun-time", render.sunTime,
+    renderCmd->add_option("--sun-time", sunTime,
                           "Place the sun where it stands at this instant over the DEM's centre, e.g. "
                           "2026-06-21T19:30Z (instead of --sun)");
     renderCmd->add_option("--seed", render.seed, "Random seed for the sky-visibility directions (default 0)");
@@ -326,6 +326,16 @@ int main(int argc, char** argv) {
         if (!parseViewOptions(size, sun, render.width, render.height, render.sunAzimuthDeg, render.sunElevationDeg))
             return 2;
         if (!parseMethodOption(method, render.method)) return 2;
+        if (!sunTime.empty()) {
+            std::string why;
+            render.sunTime = parseIsoTime(sunTime, why);
+            if (!render.sunTime) {
+                fmt::print(stderr, "terracast: error: --sun-time: expected an ISO 8601 time such as 2026-06-21T19:30Z, "
+                                   "found '{}' ({})\n",
+                           sunTime, why);
+                return 2;
+            }
+        }
         if (view != "perspective" && view != "map") {
             fmt::print(stderr, "terracast: error: --view: expected perspective or map, found '{}'\n", view);
             return 2;

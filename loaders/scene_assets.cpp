@@ -2,7 +2,7 @@
 
 #include "loaders/crs.h"
 #include "loaders/loader_support.h"
-#include "tracer/sun_position.h"
+#include "tracer/sky/sun_position.h"
 
 #include <gdal_priv.h>
 #include <gdal_utils.h>
@@ -129,30 +129,28 @@ LoadedSceneAssets loadSceneAssets(const SceneDescription& scene, double maxBytes
     return out;
 }
 
-std::string placeSunOverGrid(const std::string& utc, const GeoReference& geo, int64_t width, int64_t height,
+std::string placeSunOverGrid(const UtcInstant& when, const GeoReference& geo, int64_t width, int64_t height,
                              const std::string& what, double& azimuthDeg, double& elevationDeg) {
-    const auto when = parseCanonicalUtc(utc);
-    if (!when) throw InputError("time: expected YYYY-MM-DDTHH:MM:SSZ, found " + utc);
     double lon = 0.0, lat = 0.0;
     gridCentreLonLat(geo, width, height, what, lon, lat);
-    const SolarPosition p = solarPosition(*when, lat, lon);
+    const SolarPosition p = solarPosition(when, lat, lon);
     azimuthDeg = p.azimuthDeg;
     elevationDeg = p.apparentElevationDeg;
-    return fmt::format("sun at {} over {:.4f}, {:.4f} (lat, lon): azimuth {:.2f}, elevation {:.2f} degrees", utc, lat,
+    return fmt::format("sun at {} over {:.4f}, {:.4f} (lat, lon): azimuth {:.2f}, elevation {:.2f} degrees", formatUtc(when), lat,
                        lon, azimuthDeg, elevationDeg);
 }
 
 std::vector<std::string> placeTimedSuns(SceneDescription& scene, const LoadedSceneAssets& loaded) {
     std::vector<std::string> lines;
     for (LightDescription& light : scene.lights) {
-        if (light.kind != LightKind::Sun || light.time.empty()) continue;
+        if (light.kind != LightKind::Sun || !light.time) continue;
         if (loaded.assets.grids.empty() || !loaded.geo.front().georeferenced)
             throw InputError(where(scene, light.where) +
                              "time: placing the sun by time needs a georeferenced height field to say where on the "
                              "Earth the scene is (give azimuth and elevation instead)");
         const HeightGrid& grid = *loaded.assets.grids.front();
         try {
-            lines.push_back(placeSunOverGrid(light.time, loaded.geo.front(), grid.width(), grid.height(),
+            lines.push_back(placeSunOverGrid(*light.time, loaded.geo.front(), grid.width(), grid.height(),
                                              "the first height field", light.azimuthDeg, light.elevationDeg));
         } catch (const InputError& e) {
             const std::string what = e.what();

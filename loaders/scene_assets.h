@@ -22,10 +22,10 @@ struct LoadedSceneAssets {
 // `path:line:column` of the key that named the file. `maxBytes` bounds each DEM as in loadDem.
 LoadedSceneAssets loadSceneAssets(const SceneDescription& scene, double maxBytes = 0.0);
 
-// Where the sun stands at `utc` (canonical "YYYY-MM-DDTHH:MM:SSZ") over the centre of a grid of `width` x
+// Where the sun stands at `when` over the centre of a grid of `width` x
 // `height` vertices placed by `geo`, by NOAA's equations: sets the azimuth and apparent elevation and returns a
 // line saying so. Throws InputError naming `what` when the grid has no CRS.
-std::string placeSunOverGrid(const std::string& utc, const GeoReference& geo, int64_t width, int64_t height,
+std::string placeSunOverGrid(const UtcInstant& when, const GeoReference& geo, int64_t width, int64_t height,
                              const std::string& what, double& azimuthDeg, double& elevationDeg);
 
 // Sets the azimuth and elevation of every sun given by a `time`: where the sun stands at that instant over the

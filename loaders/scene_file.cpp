@@ -6,6 +6,7 @@
 #include "loaders/scene_file.h"
 
 #include "tracer/core/errors.h"
+#include "tracer/sky/calendar.h"
 #include "tracer/surface.h"
 
 #include <fmt/format.h>
@@ -830,134 +831,8 @@ const std::vector<KeyRule> kLightKeys{
     {"radius", {"sphere"}},
 };
 
-// Days from 1970-01-01 to a date of the proleptic Gregorian calendar, and back (Hinnant, "chrono-Compatible
-// Low-Level Date Algorithms", 2013).
-int64_t daysFromCivil(int64_t y, int64_t m, int64_t d) {
-    y -= m <= 2 ? 1 : 0;
-    const int64_t era = (y >= 0 ? y : y - 399) / 400;
-    const int64_t yoe = y - era * 400;
-    const int64_t doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
-    const int64_t doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-    return era * 146097 + doe - 719468;
-}
-
-struct CivilDate {
-    int64_t year;
-    int64_t month;
-    int64_t day;
-};
-
-CivilDate civilFromDays(int64_t z) {
-    z += 719468;
-    const int64_t era = (z >= 0 ? z : z - 146096) / 146097;
-    const int64_t doe = z - era * 146097;
-    const int64_t yoe = (doe - doe / 1460 + doe / 36524 - doe / 146096) / 365;
-    const int64_t doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    const int64_t mp = (5 * doy + 2) / 153;
-    const int64_t d = doy - (153 * mp + 2) / 5 + 1;
-    const int64_t m = mp < 10 ? mp + 3 : mp - 9;
-    return {era * 400 + yoe + (m <= 2 ? 1 : 0), m, d};
-}
-
-int64_t daysInMonth(int64_t year, int64_t month) {
-    static constexpr int kDays[] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
-    const bool leap = (year % 4 == 0 && year % 100 != 0) || year % 400 == 0;
-    return month == 2 && leap ? 29 : kDays[month - 1];
-}
-
-// A date and time of day with its offset from UTC, as written.
-struct ZonedTime {
-    int64_t year = 0, month = 0, day = 0, hour = 0, minute = 0, second = 0;
-    int64_t offsetMinutes = 0;
-};
-
-// Reads an ISO 8601 time with a zone: YYYY-MM-DDTHH:MM[:SS[.fff]] then Z or +HH:MM, +HHMM, +HH (or -).
-// Returns the reason when `text` is not one.
-std::optional<std::string> readIsoTime(std::string_view text, ZonedTime& out) {
-    size_t pos = 0;
-    const auto digits = [&](size_t count, int64_t& value) {
-        if (pos + count > text.size()) return false;
-        value = 0;
-        for (size_t i = 0; i < count; ++i) {
-            const char c = text[pos + i];
-            if (c < '0' || c > '9') return false;
-            value = value * 10 + (c - '0');
-        }
-        pos += count;
-        return true;
-    };
-    const auto literal = [&](char c) {
-        if (pos >= text.size() || text[pos] != c) return false;
-        ++pos;
-        return true;
-    };
-    if (!digits(4, out.year) || !literal('-') || !digits(2, out.month) || !literal('-') || !digits(2, out.day))
-        return "the date must be YYYY-MM-DD";
-    if (!(literal('T') || literal('t') || literal(' '))) return "a time of day must follow the date after 'T'";
-    if (!digits(2, out.hour) || !literal(':') || !digits(2, out.minute)) return "the time of day must be HH:MM";
-    if (literal(':')) {
-        if (!digits(2, out.second)) return "seconds must be two digits";
-        if (literal('.')) {
-            int64_t ignored = 0;
-            if (!digits(1, ignored)) return "a decimal point must be followed by digits";
-            while (digits(1, ignored)) {
-            }
-        }
-    }
-    if (literal('Z') || literal('z')) {
-        out.offsetMinutes = 0;
-    } else if (pos < text.size() && (text[pos] == '+' || text[pos] == '-')) {
-        const int64_t sign = text[pos++] == '-' ? -1 : 1;
-        int64_t hours = 0;
-        int64_t minutes = 0;
-        if (!digits(2, hours)) return "the offset from UTC must be +HH:MM";
-        if (literal(':') ? !digits(2, minutes) : (pos < text.size() && !digits(2, minutes)))
-            return "the offset from UTC must be +HH:MM";
-        if (hours > 23 || minutes > 59) return "the offset from UTC must be at most 23:59";
-        out.offsetMinutes = sign * (hours * 60 + minutes);
-    } else {
-        return "the time needs a zone: Z for UTC or an offset such as +02:00";
-    }
-    if (pos != text.size()) return "unexpected text after the time";
-    if (out.month < 1 || out.month > 12) return fmt::format("month {} is not in 01..12", out.month);
-    if (out.day < 1 || out.day > daysInMonth(out.year, out.month))
-        return fmt::format("day {} is not in month {:02}", out.day, out.month);
-    if (out.hour > 23) return fmt::format("hour {} is not in 00..23", out.hour);
-    if (out.minute > 59) return fmt::format("minute {} is not in 00..59", out.minute);
-    if (out.second > 59) return fmt::format("second {} is not in 00..59", out.second);
-    return std::nullopt;
-}
-
-// The same instant in UTC as "YYYY-MM-DDTHH:MM:SSZ" (fractions of a second dropped), or nothing when an
-// offset moves it out of the years 0001..9999.
-std::optional<std::string> canonicalUtc(const ZonedTime& t) {
-    const int64_t seconds = daysFromCivil(t.year, t.month, t.day) * 86400 + t.hour * 3600 + t.minute * 60 +
-                            t.second - t.offsetMinutes * 60;
-    const int64_t days = seconds >= 0 ? seconds / 86400 : -((-seconds + 86399) / 86400);
-    const int64_t inDay = seconds - days * 86400;
-    const CivilDate date = civilFromDays(days);
-    if (date.year < 1 || date.year > 9999) return std::nullopt;
-    return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}Z", date.year, date.month, date.day, inDay / 3600,
-                       inDay / 60 % 60, inDay % 60);
-}
-
-}  // namespace
-
-std::optional<std::string> utcFromIsoTime(std::string_view text, std::string& why) {
-    ZonedTime zoned;
-    if (const auto problem = readIsoTime(text, zoned)) {
-        why = *problem;
-        return std::nullopt;
-    }
-    const auto utc = canonicalUtc(zoned);
-    if (!utc) why = "its UTC date falls outside the years 0001..9999";
-    return utc;
-}
-
-namespace {
-
 // The sun's `time`, as a string or a TOML offset date-time, normalised to UTC.
-std::string parseSunTime(const TableReader& t) {
+UtcInstant parseSunTime(const TableReader& t) {
     const toml::node& n = *t.node("time");
     ZonedTime zoned;
     if (const auto* native = n.as_date_time()) {
@@ -978,7 +853,7 @@ std::string parseSunTime(const TableReader& t) {
                                              "{} ({})",
                                              quoteString(s->get()), *why));
     }
-    const auto utc = canonicalUtc(zoned);
+    const auto utc = toUtc(zoned);
     if (!utc) t.fail(t.whereOf(n), "time: expected a time whose UTC date falls in the years 0001..9999");
     return *utc;
 }

@@ -18,10 +18,6 @@ SceneDescription loadSceneFile(const std::string& path);
 // Parses scene text. `pathForMessages` starts every error message; `baseDir` is the folder relative paths in
 // the scene resolve against (empty: the working directory). Throws InputError for any invalid input and
 // nothing else, whatever the bytes: this is also the entry point for fuzzing.
-// An ISO 8601 instant with a zone ("2026-06-21T19:30Z", "2026-06-21T21:30:00+02:00") as "YYYY-MM-DDTHH:MM:SSZ"
-// in UTC; on malformed text, nothing, with the reason in `why`.
-std::optional<std::string> utcFromIsoTime(std::string_view text, std::string& why);
-
 SceneDescription parseSceneText(std::string_view text, const std::string& pathForMessages, const std::string& baseDir);
 
 }  // namespace terracast

@@ -1,5 +1,7 @@
 #include "tracer/compare.h"
 
+#include "tracer/sky/sky.h"
+
 #include "tracer/core/parallel.h"
 
 #include <algorithm>

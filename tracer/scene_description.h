@@ -2,6 +2,10 @@
 // parser fills it; loaders attach the height grids it names; the scene renderer turns it into traceable objects.
 #pragma once
 
+#include "tracer/core/source_location.h"
+#include "tracer/sky/calendar.h"
+#include "tracer/sky/sky_description.h"
+
 #include <glm/glm.hpp>
 
 #include <cstdint>
@@ -10,12 +14,6 @@
 #include <vector>
 
 namespace terracast {
-
-// Where an item was written in the scene file, for messages (1-based; 0 when not from a file).
-struct SourceLocation {
-    int line = 0;
-    int column = 0;
-};
 
 enum class CameraKind { Pinhole, Orthographic, ThinLens, Panorama, Fisheye };
 
@@ -100,28 +98,12 @@ struct LightDescription {
     // Sun: direction towards it, by azimuth (clockwise from north) and elevation, or by a date and time.
     double azimuthDeg = 315.0;
     double elevationDeg = 35.0;
-    std::string time;                  // ISO 8601 UTC time; overrides azimuth/elevation when set
+    std::optional<UtcInstant> time;    // overrides azimuth/elevation when set
     double angularRadiusDeg = 0.2679;  // the sun's apparent radius (soft shadows)
     // Point and sphere lights.
     glm::dvec3 position{0.0};
     double radiusM = 0.0;              // sphere light radius
     SourceLocation where;
-};
-
-enum class SkyKind { Physical, Gradient, Flat, None };
-
-struct SkyDescription {
-    SkyKind kind = SkyKind::Physical;
-    glm::vec3 colour{0.6f, 0.7f, 0.9f};  // flat sky colour
-    double haze = 1.0;                 // multiplies Mie scattering (physical sky)
-    bool aerialPerspective = true;     // haze in front of distant terrain (physical sky)
-    // Multiplies the sky's light on surfaces (all skies but none); unset = 1 for the physical sky (its true
-    // radiance) and 0.15 for the others (their colours are not radiances).
-    std::optional<float> ambient;
-    int samples = 4;                   // sky-visibility rays per diffuse hit; 0 = no occlusion of sky light
-    SourceLocation where;
-
-    float ambientScale() const { return ambient.value_or(kind == SkyKind::Physical ? 1.0f : 0.15f); }
 };
 
 struct RenderDescription {

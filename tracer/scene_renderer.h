@@ -8,7 +8,7 @@
 #include "tracer/sampling/samplers.h"
 #include "tracer/scene.h"
 #include "tracer/scene_camera.h"
-#include "tracer/sky.h"
+#include "tracer/sky/sky.h"
 
 #include <cstdint>
 #include <functional>

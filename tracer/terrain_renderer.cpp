@@ -4,7 +4,7 @@
 
 #include "tracer/core/parallel.h"
 #include "tracer/sampling/rng.h"
-#include "tracer/sky.h"
+#include "tracer/sky/sky.h"
 #include "tracer/sampling/warps.h"
 
 #include <atomic>
@@ -21,15 +21,6 @@ glm::vec3 mix(const glm::vec3& a, const glm::vec3& b, float w) { return a + (b -
 
 glm::dvec3 Sun::direction() const {
     return directionFromDegrees(azimuthDeg, elevationDeg);
-}
-
-glm::vec3 gradientSky(const glm::dvec3& dir) {
-    const glm::vec3 horizon{0.75f, 0.83f, 0.92f};
-    const glm::vec3 zenith{0.23f, 0.42f, 0.75f};
-    const glm::vec3 haze{0.62f, 0.68f, 0.76f};
-    const double z = dir.z / std::max(1e-30, glm::length(dir));
-    if (z < 0.0) return mix(horizon, haze, float(std::min(1.0, -z * 3.0)));
-    return mix(horizon, zenith, float(std::pow(z, 0.6)));
 }
 
 glm::vec3 elevationAlbedo(double heightM, double minHeightM, double maxHeightM) {

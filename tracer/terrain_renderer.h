@@ -7,7 +7,7 @@
 #include "heightfield/traversal.h"
 #include "tracer/camera.h"
 #include "tracer/sampling/film.h"
-#include "tracer/scene_description.h"
+#include "tracer/sky/sky_description.h"
 #include "tracer/surface.h"
 
 #include <algorithm>
@@ -88,9 +88,6 @@ std::optional<Ray> sunShadowRay(const HeightFieldHit& hit, const glm::dvec3& ray
 // constant ambient term.
 glm::vec3 shadeTerrainHit(const HeightGrid& grid, const HeightFieldHit& hit, const glm::dvec3& rayDir, bool sunVisible,
                           const TerrainRenderSettings& settings);
-
-// The sky seen along a unit direction: a gradient from a pale horizon to a deeper zenith.
-glm::vec3 gradientSky(const glm::dvec3& dir);
 
 // Terrain albedo from a height ramp: lowland green, upland brown, rock grey, snow white.
 glm::vec3 elevationAlbedo(double heightM, double minHeightM, double maxHeightM);

@@ -4,7 +4,7 @@
 #include "support/run_command.h"
 #include "support/temp_dir.h"
 #include "loaders/image_io.h"
-#include "tracer/sun_position.h"
+#include "tracer/sky/sun_position.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,7 +1,7 @@
 // The single-scattering atmosphere against direct numerical integration, and the qualitative physics of a
 // clear sky as assertions.
 #include "tracer/core/angles.h"
-#include "tracer/atmosphere.h"
+#include "tracer/sky/atmosphere.h"
 
 #include "tracer/scene.h"
 

@@ -2,7 +2,7 @@
 // perspective, and the rays each sky setting costs.
 #include "tracer/core/angles.h"
 #include "tracer/scene_renderer.h"
-#include "tracer/sky.h"
+#include "tracer/sky/sky.h"
 #include "tracer/terrain_renderer.h"
 
 #include "tracer/scene.h"

@@ -1,5 +1,5 @@
 // Solar positions against published values.
-#include "tracer/sun_position.h"
+#include "tracer/sky/sun_position.h"
 
 #include <catch2/catch.hpp>
 
@@ -40,7 +40,8 @@ TEST_CASE("At published sunrise times the sun's centre stands 0.833 degree below
 }
 
 TEST_CASE("Canonical UTC times are read back and malformed ones refused", "[tracer][sky]") {
-    const auto t = parseCanonicalUtc("2026-06-21T19:30:05Z");
+    std::string why;
+    const auto t = parseIsoTime("2026-06-21T19:30:05Z", why);
     REQUIRE(t);
     CHECK(t->year == 2026);
     CHECK(t->month == 6);
@@ -48,7 +49,7 @@ TEST_CASE("Canonical UTC times are read back and malformed ones refused", "[trac
     CHECK(t->hour == 19);
     CHECK(t->minute == 30);
     CHECK(t->second == 5.0);
-    CHECK_FALSE(parseCanonicalUtc("2026-06-21T19:30:05"));
-    CHECK_FALSE(parseCanonicalUtc("2026-13-21T19:30:05Z"));
-    CHECK_FALSE(parseCanonicalUtc("2026-06-21T19:30:05Z trailing"));
+    CHECK_FALSE(parseIsoTime("2026-06-21T19:30:05", why));
+    CHECK_FALSE(parseIsoTime("2026-13-21T19:30:05Z", why));
+    CHECK_FALSE(parseIsoTime("2026-06-21T19:30:05Z trailing", why));
 }

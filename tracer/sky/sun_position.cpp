@@ -1,4 +1,4 @@
-#include "tracer/sun_position.h"
+#include "tracer/sky/sun_position.h"
 
 #include "tracer/core/angles.h"
 
@@ -10,16 +10,6 @@ namespace terracast {
 
 namespace {
 
-
-// Days from 1970-01-01 to a civil date of the proleptic Gregorian calendar (Hinnant's algorithm).
-long long daysFromCivil(long long y, unsigned m, unsigned d) {
-    y -= m <= 2;
-    const long long era = (y >= 0 ? y : y - 399) / 400;
-    const unsigned yoe = unsigned(y - era * 400);
-    const unsigned doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
-    const unsigned doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-    return era * 146097 + (long long)doe - 719468;
-}
 
 // Refraction in degrees at a geometric elevation, as the NOAA calculator estimates it (standard atmosphere).
 double refractionDeg(double elevationDeg) {
@@ -37,24 +27,9 @@ double refractionDeg(double elevationDeg) {
 
 }  // namespace
 
-std::optional<UtcInstant> parseCanonicalUtc(const std::string& text) {
-    UtcInstant t;
-    int second = 0;
-    char z = 0;
-    int used = 0;
-    if (std::sscanf(text.c_str(), "%4d-%2d-%2dT%2d:%2d:%2d%c%n", &t.year, &t.month, &t.day, &t.hour, &t.minute, &second,
-                    &z, &used) != 7 ||
-        z != 'Z' || size_t(used) != text.size())
-        return std::nullopt;
-    if (t.month < 1 || t.month > 12 || t.day < 1 || t.day > 31 || t.hour > 23 || t.minute > 59 || second > 60)
-        return std::nullopt;
-    t.second = second;
-    return t;
-}
-
 SolarPosition solarPosition(const UtcInstant& when, double latitudeDeg, double longitudeDeg) {
     const double dayMinutes = when.hour * 60.0 + when.minute + when.second / 60.0;
-    const double julianDay = double(daysFromCivil(when.year, unsigned(when.month), unsigned(when.day))) + 2440587.5 +
+    const double julianDay = double(daysFromCivil(when.year, when.month, when.day)) + 2440587.5 +
                              dayMinutes / 1440.0;
     const double T = (julianDay - 2451545.0) / 36525.0;  // Julian centuries since J2000.0
 

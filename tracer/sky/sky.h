@@ -3,8 +3,8 @@
 // renderers' units, where a white surface of albedo a facing a sun of irradiance E has radiance a E.
 #pragma once
 
-#include "tracer/atmosphere.h"
-#include "tracer/scene_description.h"
+#include "tracer/sky/atmosphere.h"
+#include "tracer/sky/sky_description.h"
 #include "tracer/sampling/warps.h"
 
 #include <glm/glm.hpp>
@@ -35,6 +35,9 @@ float openSkyFraction(const glm::dvec3& n, int count, const glm::dvec2& shift, B
         open += !blocked(frame.toWorld(squareToCosineHemisphere(skyVisibilityPoint(i, count, shift))));
     return float(open) / float(count);
 }
+
+// The sky seen along a unit direction: a gradient from a pale horizon to a deeper zenith.
+glm::vec3 gradientSky(const glm::dvec3& dir);
 
 // The transmittance table of an atmosphere, shared by every render in the process that uses the same haze.
 std::shared_ptr<const TransmittanceTable> sharedTransmittanceTable(const AtmosphereParameters& parameters);

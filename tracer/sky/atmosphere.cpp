@@ -1,4 +1,4 @@
-#include "tracer/atmosphere.h"
+#include "tracer/sky/atmosphere.h"
 
 #include "tracer/core/angles.h"
 

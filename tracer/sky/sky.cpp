@@ -1,8 +1,7 @@
-#include "tracer/sky.h"
+#include "tracer/sky/sky.h"
 
 #include "tracer/core/angles.h"
 
-#include "tracer/terrain_renderer.h"
 #include "tracer/sampling/warps.h"
 
 #include <cmath>
@@ -12,7 +11,17 @@
 namespace terracast {
 
 namespace {
+glm::vec3 mix(const glm::vec3& a, const glm::vec3& b, float w) { return a + (b - a) * w; }
 }  // namespace
+
+glm::vec3 gradientSky(const glm::dvec3& dir) {
+    const glm::vec3 horizon{0.75f, 0.83f, 0.92f};
+    const glm::vec3 zenith{0.23f, 0.42f, 0.75f};
+    const glm::vec3 haze{0.62f, 0.68f, 0.76f};
+    const double z = dir.z / std::max(1e-30, glm::length(dir));
+    if (z < 0.0) return mix(horizon, haze, float(std::min(1.0, -z * 3.0)));
+    return mix(horizon, zenith, float(std::pow(z, 0.6)));
+}
 
 glm::dvec2 skyVisibilityPoint(int i, int n, const glm::dvec2& shift) {
     const double x = (i + shift.x) / n, y = shift.y + 0.6180339887498949 * i;
