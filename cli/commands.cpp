@@ -745,21 +745,10 @@ int runScene(const SceneCommandOptions& o) {
         if (o.samples > 0) r.samples = o.samples;
         if (o.threads >= 0) r.threads = o.threads;
         if (o.seed >= 0) r.seed = uint64_t(o.seed);
-        if (!o.method.empty()) {
-            if (!parseSurfaceMethod(o.method))
-                throw InputError(fmt::format("--method: expected one of {}, found '{}'", surfaceMethodList(), o.method));
-            for (auto& obj : d.objects) obj.method = o.method;
-        }
-        if (!o.sampler.empty()) {
-            if (!parseSamplePattern(o.sampler))
-                throw InputError(fmt::format("--sampler: expected one of {}, found '{}'", samplePatternList(), o.sampler));
-            r.sampler = o.sampler;
-        }
-        if (!o.filter.empty()) {
-            if (!parseFilterKind(o.filter))
-                throw InputError(fmt::format("--filter: expected one of {}, found '{}'", filterKindList(), o.filter));
-            r.filter = o.filter;
-        }
+        if (o.method)
+            for (auto& obj : d.objects) obj.method = *o.method;
+        if (o.sampler) r.sampler = *o.sampler;
+        if (o.filter) r.filter = *o.filter;
         if (o.adaptive && !(o.adaptiveError > 0.0))
             throw InputError(fmt::format("--adaptive: expected an error > 0, found {}", o.adaptiveError));
         if (o.focusPixel && d.camera.kind != CameraKind::ThinLens)
@@ -788,7 +777,7 @@ int runScene(const SceneCommandOptions& o) {
         double embreeBytes = 0.0;
         for (size_t k = 0, g = 0; k < d.objects.size(); ++k)
             if (d.objects[k].kind == ObjectKind::HeightField)
-                embreeBytes += embreeBytesEstimate(*parseSurfaceMethod(d.objects[k].method), *loaded.assets.grids[g++]);
+                embreeBytes += embreeBytesEstimate(d.objects[k].method, *loaded.assets.grids[g++]);
         const double need = loaded.bytes + embreeBytes + double(r.width) * r.height * 12.0;
         if (need > limit)
             throw InputError(fmt::format("{}: rendering {}x{} needs about {}, more than the {} limit (--max-memory)",
@@ -815,8 +804,8 @@ int runScene(const SceneCommandOptions& o) {
         s.seed = r.seed;
         s.threads = r.threads;
         s.exposure = r.exposure;
-        s.pattern = *parseSamplePattern(r.sampler);
-        s.filter = PixelFilter::defaults(*parseFilterKind(r.filter));
+        s.pattern = r.sampler;
+        s.filter = PixelFilter::defaults(r.filter);
         s.adaptive = o.adaptive;
         if (o.adaptive) {
             s.rule.maxSamples = std::max(r.samples, 2);

@@ -6,6 +6,8 @@
 #include "heightfield/traversal.h"
 #include "tracer/bench.h"
 #include "tracer/surface.h"
+#include "tracer/sampling/filters.h"
+#include "tracer/sampling/samplers.h"
 #include "tracer/sky/calendar.h"
 
 #include <cstdint>
@@ -129,9 +131,9 @@ struct SceneCommandOptions {
     int samples = 0;                           // overrides render.samples when > 0
     int threads = -1;                          // overrides render.threads when >= 0
     int64_t seed = -1;                         // overrides render.seed when >= 0
-    std::string method;                        // overrides every height field's method when set
-    std::string sampler;                       // overrides render.sampler when set
-    std::string filter;                        // overrides render.filter when set
+    std::optional<SurfaceMethod> method;       // overrides every height field's method when set
+    std::optional<SamplePattern> sampler;      // overrides render.sampler when set
+    std::optional<FilterKind> filter;          // overrides render.filter when set
     bool adaptive = false;                     // adaptive sampling, up to the samples per pixel
     double adaptiveError = 0.002;              // adaptive: standard error of the luminance to reach
     bool focusPixel = false;                   // thin lens: focus on what pixel (focusX, focusY) sees

@@ -40,6 +40,15 @@ bool parseSunOption(const std::string& sun, double& azimuthDeg, double& elevatio
     return false;
 }
 
+// A named value of an option (a method, sample pattern or filter), or one error line naming the choices.
+template <class E>
+bool parseNamedOption(const std::string& text, const char* option, std::optional<E> (*parse)(std::string_view),
+                      const char* list, std::optional<E>& value) {
+    value = parse(text);
+    if (!value) fmt::print(stderr, "terracast: error: {}: expected one of {}, found '{}'\n", option, list, text);
+    return value.has_value();
+}
+
 bool parseMethodOption(const std::string& name, SurfaceMethod& method) {
     if (const auto m = parseSurfaceMethod(name)) {
         method = *m;
@@ -78,7 +87,7 @@ int main(int argc, char** argv) {
     addDemOptions(*infoCmd, info.dem);
 
     SceneCommandOptions scene;
-    std::string debugPixel, sceneSize, focusPixel;
+    std::string debugPixel, sceneSize, focusPixel, sceneMethod, sceneSampler, sceneFilter;
     auto* sceneCmd = app.add_subcommand("scene", "Render a TOML scene: terrain, spheres, boxes, polygons, water, mirrors, glass");
     sceneCmd->add_option("SCENE", scene.path, "Scene file (TOML); see docs/scene-format.md")->required();
     sceneCmd->add_option("-o,--output", scene.output, "Output image .png or .exr (overrides render.output)");
@@ -86,10 +95,10 @@ int main(int argc, char** argv) {
     sceneCmd->add_option("--spp", scene.samples, "Samples per pixel (overrides render.samples)")->check(CLI::Range(1, 65536));
     sceneCmd->add_option("--threads", scene.threads, "Worker threads, 0 = all cores")->check(CLI::NonNegativeNumber);
     sceneCmd->add_option("--seed", scene.seed, "Random seed (overrides render.seed)")->check(CLI::NonNegativeNumber);
-    sceneCmd->add_option("--method", scene.method, "Height-field method for every terrain (overrides the file)");
+    sceneCmd->add_option("--method", sceneMethod, "Height-field method for every terrain (overrides the file)");
     sceneCmd->add_option("--debug-pixel", debugPixel, "Print the ray tree of pixel X,Y (and render only with -o)");
-    sceneCmd->add_option("--sampler", scene.sampler, "Sample pattern: regular, random, stratified, poisson, best-candidate");
-    sceneCmd->add_option("--filter", scene.filter, "Pixel filter: box, tent, gaussian");
+    sceneCmd->add_option("--sampler", sceneSampler, "Sample pattern: regular, random, stratified, poisson, best-candidate");
+    sceneCmd->add_option("--filter", sceneFilter, "Pixel filter: box, tent, gaussian");
     sceneCmd->add_option("--focus", focusPixel, "Thin lens: focus on what pixel X,Y sees");
     auto* adaptiveOpt = sceneCmd->add_option("--adaptive", scene.adaptiveError,
                                              "Adaptive sampling up to --spp samples, until the standard error of a "
@@ -290,6 +299,15 @@ int main(int argc, char** argv) {
             scene.focusX = int(fx);
             scene.focusY = int(fy);
         }
+        if (!sceneMethod.empty() &&
+            !parseNamedOption(sceneMethod, "--method", parseSurfaceMethod, surfaceMethodList(), scene.method))
+            return 2;
+        if (!sceneSampler.empty() &&
+            !parseNamedOption(sceneSampler, "--sampler", parseSamplePattern, samplePatternList(), scene.sampler))
+            return 2;
+        if (!sceneFilter.empty() &&
+            !parseNamedOption(sceneFilter, "--filter", parseFilterKind, filterKindList(), scene.filter))
+            return 2;
         scene.adaptive = adaptiveOpt->count() > 0;
         if (!sceneSize.empty() && !parseSize(sceneSize, scene.width, scene.height)) {
             fmt::print(stderr, "terracast: error: --size: expected WxH with positive integers, found '{}'\n", sceneSize);

@@ -7,7 +7,9 @@
 
 #include "tracer/core/errors.h"
 #include "tracer/sky/calendar.h"
-#include "tracer/surface.h"
+#include "tracer/core/surface_method.h"
+#include "tracer/sampling/filters.h"
+#include "tracer/sampling/samplers.h"
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
@@ -659,17 +661,12 @@ const std::vector<KeyRule> kObjectKeys{
     {"level", {"water"}},
 };
 
-// The surface methods a height field accepts: the tracer's own list, so the two cannot drift apart.
-std::vector<Choice<std::string_view>> surfaceMethodChoices() {
-    std::vector<Choice<std::string_view>> choices;
-    std::string_view list = surfaceMethodList();  // static storage: the views stay valid
-    while (!list.empty()) {
-        const size_t comma = list.find(',');
-        std::string_view name = list.substr(0, comma);
-        list = comma == std::string_view::npos ? std::string_view() : list.substr(comma + 1);
-        while (name.starts_with(' ')) name.remove_prefix(1);
-        if (parseSurfaceMethod(name)) choices.push_back({name, name});
-    }
+// The choices of an enumeration that names its own values (surface methods, sample patterns, pixel filters):
+// the tracer's own lists, so the scene file and the tracer cannot drift apart. The names have static storage.
+template <typename E>
+std::vector<Choice<E>> namedChoices(std::span<const E> values, const char* (*name)(E)) {
+    std::vector<Choice<E>> choices;
+    for (const E v : values) choices.push_back({name(v), v});
     return choices;
 }
 
@@ -681,8 +678,8 @@ void parseHeightField(const SceneContext& scene, const TableReader& t, const std
     checkInputFile(t, "file", o.filePath);
     if (const auto offset = t.vector3("offset")) o.offsetM = *offset;
     if (const auto k = t.number("exaggeration", kPositive)) o.exaggeration = *k;
-    static const auto methods = surfaceMethodChoices();
-    if (const auto method = t.choice<std::string_view>("method", methods)) o.method = std::string(*method);
+    static const auto methods = namedChoices(surfaceMethods(), surfaceMethodName);
+    if (const auto method = t.choice<SurfaceMethod>("method", methods)) o.method = *method;
     if (const auto cell = t.number("cell_size", kPositive)) o.cellSizeM = *cell;
     if (const auto scale = t.number("height_scale", kPositive)) o.heightScale = *scale;
 }
@@ -930,20 +927,6 @@ SkyDescription parseSky(const TableReader& t) {
     return sky;
 }
 
-constexpr std::array<Choice<std::string_view>, 5> kSamplers{{
-    {"regular", "regular"},
-    {"random", "random"},
-    {"stratified", "stratified"},
-    {"poisson", "poisson"},
-    {"best-candidate", "best-candidate"},
-}};
-
-constexpr std::array<Choice<std::string_view>, 3> kFilters{{
-    {"box", "box"},
-    {"tent", "tent"},
-    {"gaussian", "gaussian"},
-}};
-
 const std::vector<KeyRule> kRenderKeys{
     {"width", {}},     {"height", {}}, {"samples", {}}, {"sampler", {}}, {"filter", {}},   {"max_depth", {}},
     {"min_weight", {}}, {"seed", {}},  {"threads", {}}, {"output", {}},  {"exposure", {}},
@@ -961,8 +944,10 @@ RenderDescription parseRender(const SceneContext& scene, const TableReader& t) {
     if (const auto w = t.integer("width", 1, kMaxImageSide)) r.width = static_cast<int>(*w);
     if (const auto h = t.integer("height", 1, kMaxImageSide)) r.height = static_cast<int>(*h);
     if (const auto s = t.integer("samples", 1, kMaxSamples)) r.samples = static_cast<int>(*s);
-    if (const auto s = t.choice<std::string_view>("sampler", kSamplers)) r.sampler = std::string(*s);
-    if (const auto f = t.choice<std::string_view>("filter", kFilters)) r.filter = std::string(*f);
+    static const auto samplers = namedChoices(samplePatterns(), samplePatternName);
+    static const auto filters = namedChoices(filterKinds(), filterKindName);
+    if (const auto s = t.choice<SamplePattern>("sampler", samplers)) r.sampler = *s;
+    if (const auto f = t.choice<FilterKind>("filter", filters)) r.filter = *f;
     if (const auto d = t.integer("max_depth", 0, kMaxDepth)) r.maxDepth = static_cast<int>(*d);
     if (const auto w = t.number("min_weight", Range{0.0, 1.0, true, false})) r.minWeight = *w;
     if (const auto s = t.integer("seed", 0, std::numeric_limits<int64_t>::max())) r.seed = static_cast<uint64_t>(*s);

@@ -15,9 +15,7 @@ std::unique_ptr<Primitive> makePrimitive(const ObjectDescription& o, const Scene
     case ObjectKind::HeightField: {
         if (nextGrid >= assets.grids.size() || !assets.grids[nextGrid])
             throw std::invalid_argument("scene: no height grid loaded for object '" + o.name + "'");
-        const auto method = parseSurfaceMethod(o.method);
-        if (!method) throw std::invalid_argument("scene: unknown surface method '" + o.method + "'");
-        return std::make_unique<HeightFieldPrimitive>(assets.grids[nextGrid++], o.offsetM, *method, threads);
+        return std::make_unique<HeightFieldPrimitive>(assets.grids[nextGrid++], o.offsetM, o.method, threads);
     }
     case ObjectKind::Sphere: return std::make_unique<SpherePrimitive>(o.centre, o.radiusM);
     case ObjectKind::Plane: return std::make_unique<PlanePrimitive>(o.point, o.normal);

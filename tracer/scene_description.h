@@ -3,6 +3,9 @@
 #pragma once
 
 #include "tracer/core/source_location.h"
+#include "tracer/core/surface_method.h"
+#include "tracer/sampling/filters.h"
+#include "tracer/sampling/samplers.h"
 #include "tracer/sky/calendar.h"
 #include "tracer/sky/sky_description.h"
 
@@ -66,7 +69,7 @@ struct ObjectDescription {
     std::string filePath;              // resolved against the scene file's folder
     glm::dvec3 offsetM{0.0};           // placement: where the grid's vertex (0, 0) goes
     double exaggeration = 1.0;         // vertical exaggeration (heights times this)
-    std::string method = "bilinear";   // a surface method name (see surface.h)
+    SurfaceMethod method = SurfaceMethod::Bilinear;
     double cellSizeM = 1.0;            // PNG height maps: metres between samples
     double heightScale = 1.0;          // PNG height maps: metres per stored unit
     // Sphere.
@@ -110,8 +113,8 @@ struct RenderDescription {
     int width = 960;
     int height = 540;
     int samples = 1;                   // samples per pixel
-    std::string sampler = "stratified";
-    std::string filter = "box";
+    SamplePattern sampler = SamplePattern::Stratified;
+    FilterKind filter = FilterKind::Box;
     int maxDepth = 6;                  // reflection/refraction bounces
     double minWeight = 0.01;           // stop a path whose weight falls below this
     uint64_t seed = 0;

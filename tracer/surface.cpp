@@ -6,47 +6,6 @@
 
 namespace terracast {
 
-namespace {
-// The direct methods share their names with the cell methods; Embree adds two.
-constexpr std::array<std::pair<SurfaceMethod, CellMethod>, 5> kDirect{{
-    {SurfaceMethod::Bilinear, CellMethod::Bilinear},
-    {SurfaceMethod::BilinearDouble, CellMethod::BilinearDouble},
-    {SurfaceMethod::Triangles, CellMethod::Triangles},
-    {SurfaceMethod::Nearest, CellMethod::Nearest},
-    {SurfaceMethod::Reference, CellMethod::Reference},
-}};
-
-CellMethod toCellMethod(SurfaceMethod m) {
-    for (const auto& [surface, cell] : kDirect)
-        if (surface == m) return cell;
-    return CellMethod::Bilinear;
-}
-}  // namespace
-
-std::optional<SurfaceMethod> parseSurfaceMethod(std::string_view name) {
-    if (name == "embree") return SurfaceMethod::Embree;
-    if (name == "embree-grid") return SurfaceMethod::EmbreeGrid;
-    if (const auto cell = parseCellMethod(name))
-        for (const auto& [surface, c] : kDirect)
-            if (c == *cell) return surface;
-    return std::nullopt;
-}
-
-const char* surfaceMethodName(SurfaceMethod method) {
-    if (method == SurfaceMethod::Embree) return "embree";
-    if (method == SurfaceMethod::EmbreeGrid) return "embree-grid";
-    return cellMethodName(toCellMethod(method));
-}
-
-const char* surfaceMethodList() {
-    static const std::string list = [] {
-        std::string s;
-        for (const auto& [surface, cell] : kDirect) s += std::string(cellMethodName(cell)) + ", ";
-        return s + "embree, embree-grid";
-    }();
-    return list.c_str();
-}
-
 const std::vector<SurfaceMethod>& compareMethods() {
     static const std::vector<SurfaceMethod> methods{SurfaceMethod::Bilinear, SurfaceMethod::BilinearDouble,
                                                     SurfaceMethod::Triangles, SurfaceMethod::Nearest,
@@ -55,7 +14,7 @@ const std::vector<SurfaceMethod>& compareMethods() {
 }
 
 TerrainSurface::TerrainSurface(const HeightGrid& grid, SurfaceMethod method, int threads, Traversal traversal)
-    : grid_(grid), method_(method), cell_(toCellMethod(method)), traversal_(traversal) {
+    : grid_(grid), method_(method), cell_(directCellMethod(method).value_or(CellMethod::Bilinear)), traversal_(traversal) {
     if (method == SurfaceMethod::Embree)
         embree_ = std::make_unique<EmbreeTerrain>(grid, EmbreeLayout::TriangleMesh, threads);
     if (method == SurfaceMethod::EmbreeGrid) embree_ = std::make_unique<EmbreeTerrain>(grid, EmbreeLayout::Grid, threads);

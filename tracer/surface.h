@@ -3,6 +3,7 @@
 
 #include "heightfield/height_grid.h"
 #include "heightfield/traversal.h"
+#include "tracer/core/surface_method.h"
 #include "tracer/embree_terrain.h"
 
 #include <memory>
@@ -13,22 +14,6 @@
 
 namespace terracast {
 
-// Every way to trace the terrain, direct or triangulated.
-enum class SurfaceMethod {
-    Bilinear,        // direct: exact patch in float
-    BilinearDouble,  // direct: exact patch in double
-    Triangles,       // direct: two triangles per cell
-    Nearest,         // direct: flat squares
-    Reference,       // direct: exact patch in long double
-    Embree,          // Embree triangle mesh
-    EmbreeGrid,      // Embree grid geometry
-};
-
-// Parses a method name ("bilinear", ..., "embree", "embree-grid").
-std::optional<SurfaceMethod> parseSurfaceMethod(std::string_view name);
-const char* surfaceMethodName(SurfaceMethod method);
-// The names parseSurfaceMethod accepts, comma-separated, for messages.
-const char* surfaceMethodList();
 // The methods `compare` runs, in report order.
 const std::vector<SurfaceMethod>& compareMethods();
 

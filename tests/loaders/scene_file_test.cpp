@@ -233,7 +233,7 @@ TEST_CASE("Scene file: a full example parses to the structs it states", "[loader
     CHECK(terrain.filePath == folder.file("dem.tif"));
     CHECK(terrain.offsetM == glm::dvec3(10, 20, -5));
     CHECK(terrain.exaggeration == 2.0);
-    CHECK(terrain.method == "embree-grid");
+    CHECK(terrain.method == SurfaceMethod::EmbreeGrid);
     CHECK(terrain.cellSizeM == 30.0);
     CHECK(terrain.heightScale == 0.1);
     CHECK(at(terrain.where, 38, 1));
@@ -292,8 +292,8 @@ TEST_CASE("Scene file: a full example parses to the structs it states", "[loader
     CHECK(r.width == 320);
     CHECK(r.height == 200);
     CHECK(r.samples == 16);
-    CHECK(r.sampler == "poisson");
-    CHECK(r.filter == "gaussian");
+    CHECK(r.sampler == SamplePattern::Poisson);
+    CHECK(r.filter == FilterKind::Gaussian);
     CHECK(r.maxDepth == 12);
     CHECK(r.minWeight == 0.001);
     CHECK(r.seed == 42u);
@@ -391,7 +391,7 @@ TEST_CASE("Scene file: per-type defaults and the other camera, sky and light typ
     for (const char* method : {"bilinear", "bilinear-double", "triangles", "nearest", "reference", "embree"}) {
         const std::string text =
             std::string("[[object]]\ntype = \"heightfield\"\nfile = \"dem.tif\"\nmethod = \"") + method + "\"\n";
-        CHECK(parse(text, folder).objects.at(0).method == method);
+        CHECK(parse(text, folder).objects.at(0).method == parseSurfaceMethod(method));
     }
 }
 

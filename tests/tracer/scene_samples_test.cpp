@@ -30,8 +30,8 @@ Rendered renderSample(const std::string& name, int width, int height) {
     s.height = height;
     // The file's own sampling, capped so that CI stays quick.
     s.samples = std::min(d.render.samples, 16);
-    s.pattern = *parseSamplePattern(d.render.sampler);
-    s.filter = PixelFilter::defaults(*parseFilterKind(d.render.filter));
+    s.pattern = d.render.sampler;
+    s.filter = PixelFilter::defaults(d.render.filter);
     s.seed = d.render.seed;
     s.maxDepth = d.render.maxDepth;
     s.minWeight = d.render.minWeight;

@@ -21,6 +21,12 @@ double gaussianIntegral(double radius, double alpha) {
 }
 }  // namespace
 
+std::span<const FilterKind> filterKinds() {
+    static constexpr FilterKind kAll[] = {FilterKind::Box, FilterKind::Tent, FilterKind::Gaussian};
+    static_assert(std::size(kAll) == std::size(kFilterNames));
+    return kAll;
+}
+
 std::optional<FilterKind> parseFilterKind(std::string_view name) {
     for (const auto& [kind, text] : kFilterNames)
         if (name == text) return kind;

@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -25,6 +26,8 @@ enum class FilterKind {
 };
 
 // Parses "box", "tent" or "gaussian".
+// Every filter, in the order lists and messages show them.
+std::span<const FilterKind> filterKinds();
 std::optional<FilterKind> parseFilterKind(std::string_view name);
 const char* filterKindName(FilterKind kind);
 // The names parseFilterKind accepts, comma-separated, for messages.

@@ -183,6 +183,13 @@ glm::dvec2 regularPoint(int k, int side) {
 
 }  // namespace
 
+std::span<const SamplePattern> samplePatterns() {
+    static constexpr SamplePattern kAll[] = {SamplePattern::Regular, SamplePattern::Random, SamplePattern::Stratified,
+                                             SamplePattern::Poisson, SamplePattern::BestCandidate};
+    static_assert(std::size(kAll) == std::size(kPatternNames));
+    return kAll;
+}
+
 std::optional<SamplePattern> parseSamplePattern(std::string_view name) {
     for (const auto& [pattern, text] : kPatternNames)
         if (name == text) return pattern;

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -24,6 +25,8 @@ enum class SamplePattern {
 };
 
 // Parses "regular", "random", "stratified", "poisson" or "best-candidate".
+// Every pattern, in the order lists and messages show them.
+std::span<const SamplePattern> samplePatterns();
 std::optional<SamplePattern> parseSamplePattern(std::string_view name);
 const char* samplePatternName(SamplePattern pattern);
 // The names parseSamplePattern accepts, comma-separated, for messages.
