@@ -2,10 +2,10 @@
 // physical sky against the same render under a flat one (same rays, same sky-visibility samples).
 #include "loaders/dem_loader.h"
 #include "tracer/sky/atmosphere.h"
-#include "tracer/camera.h"
+#include "tracer/terrain/camera.h"
 #include "tracer/sky/sky.h"
-#include "tracer/surface.h"
-#include "tracer/terrain_renderer.h"
+#include "tracer/terrain/surface.h"
+#include "tracer/terrain/terrain_renderer.h"
 
 #include <benchmark/benchmark.h>
 

@@ -16,9 +16,9 @@
 #include "tracer/bench.h"
 #include "tracer/core/cancel.h"
 #include "tracer/compare.h"
-#include "tracer/maps.h"
+#include "tracer/terrain/maps.h"
 #include "tracer/scene_renderer.h"
-#include "tracer/terrain_renderer.h"
+#include "tracer/terrain/terrain_renderer.h"
 
 #include <fmt/core.h>
 

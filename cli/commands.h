@@ -5,7 +5,7 @@
 
 #include "heightfield/traversal.h"
 #include "tracer/bench.h"
-#include "tracer/surface.h"
+#include "tracer/terrain/surface.h"
 #include "tracer/sampling/filters.h"
 #include "tracer/sampling/samplers.h"
 #include "tracer/sky/calendar.h"

@@ -2,7 +2,7 @@
 
 #include "tracer/core/angles.h"
 
-#include "tracer/camera.h"
+#include "tracer/terrain/camera.h"
 
 #include <algorithm>
 #include <chrono>

@@ -3,7 +3,7 @@
 #include "tracer/core/angles.h"
 
 #include "tracer/compare.h"
-#include "tracer/terrain_renderer.h"
+#include "tracer/terrain/terrain_renderer.h"
 
 #include <algorithm>
 #include <cmath>

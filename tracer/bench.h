@@ -5,8 +5,8 @@
 
 #include "heightfield/height_grid.h"
 #include "heightfield/traversal.h"
-#include "tracer/camera.h"
-#include "tracer/surface.h"
+#include "tracer/terrain/camera.h"
+#include "tracer/terrain/surface.h"
 
 #include <tbb/task_arena.h>
 #include <tbb/task_scheduler_observer.h>

@@ -60,7 +60,7 @@ MethodComparison traceSurface(const HeightGrid& grid, const TerrainSurface& surf
             for (int x = x0; x < x1; ++x) {
                 const size_t k = index(x, y);
                 if (!hits[k]) continue;
-                if (const auto r = sunShadowRay(*hits[k], dirs[k], s)) {
+                if (const auto r = sunShadowRay(*hits[k], dirs[k], s.sun)) {
                     ++count;
                     lit[k] = surface.occluded(*r, {0.0, kInfinity}) ? 0 : 1;
                 }
@@ -84,7 +84,7 @@ MethodComparison traceSurface(const HeightGrid& grid, const TerrainSurface& surf
                 m.image.set(x, y, gradientSky(dirs[k]));
                 continue;
             }
-            m.image.set(x, y, shadeTerrainHit(grid, *hits[k], dirs[k], lit[k] == 1, s));
+            m.image.set(x, y, shadeTerrainHit(grid, *hits[k], dirs[k], lit[k] == 1, s.sun, s.ambient));
         }
     return m;
 }

@@ -5,8 +5,8 @@
 #include "heightfield/height_grid.h"
 #include "tracer/accuracy.h"
 #include "tracer/sampling/film.h"
-#include "tracer/surface.h"
-#include "tracer/terrain_renderer.h"
+#include "tracer/terrain/surface.h"
+#include "tracer/terrain/terrain_renderer.h"
 
 #include <cstdint>
 #include <functional>

@@ -4,7 +4,7 @@
 
 #include "heightfield/geometry.h"
 #include "heightfield/height_grid.h"
-#include "tracer/surface.h"
+#include "tracer/terrain/surface.h"
 
 #include <memory>
 #include <string>

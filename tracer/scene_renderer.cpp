@@ -5,7 +5,7 @@
 #include "tracer/optics.h"
 #include "tracer/core/parallel.h"
 #include "tracer/sampling/rng.h"
-#include "tracer/terrain_renderer.h"
+#include "tracer/terrain/terrain_renderer.h"
 #include "tracer/sampling/warps.h"
 
 #include <atomic>
@@ -23,15 +23,6 @@ namespace {
 constexpr int kMaxShadowInterfaces = 16;
 
 float maxComponent(const glm::vec3& v) { return std::max({v.r, v.g, v.b}); }
-
-glm::vec3 slopeAlbedo(double normalZ) {
-    // Grass on gentle slopes, scree on steeper ones, bare rock on cliffs.
-    const glm::vec3 grass{0.22f, 0.36f, 0.15f}, scree{0.45f, 0.40f, 0.33f}, rock{0.38f, 0.37f, 0.36f};
-    const double slopeDeg = degrees(std::acos(std::clamp(normalZ, -1.0, 1.0)));
-    if (slopeDeg < 20.0) return glm::mix(grass, scree, float(slopeDeg / 20.0) * 0.3f);
-    if (slopeDeg < 40.0) return glm::mix(glm::mix(grass, scree, 0.3f), scree, float((slopeDeg - 20.0) / 20.0));
-    return glm::mix(scree, rock, float(std::min(1.0, (slopeDeg - 40.0) / 20.0)));
-}
 
 struct Counters {
     int64_t primary = 0, shadow = 0, reflection = 0, refraction = 0, skyVisibility = 0, sky = 0, samples = 0;

@@ -1,7 +1,7 @@
 // Map products: shadow masks against horizon angles, viewsheds on hand-made DEMs, and the map view against
 // analytic shading.
 #include "loaders/dem_loader.h"
-#include "tracer/maps.h"
+#include "tracer/terrain/maps.h"
 
 #include <catch2/catch.hpp>
 

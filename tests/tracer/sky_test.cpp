@@ -3,7 +3,7 @@
 #include "tracer/core/angles.h"
 #include "tracer/scene_renderer.h"
 #include "tracer/sky/sky.h"
-#include "tracer/terrain_renderer.h"
+#include "tracer/terrain/terrain_renderer.h"
 
 #include "tracer/scene.h"
 

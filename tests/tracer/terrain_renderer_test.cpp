@@ -1,7 +1,7 @@
 // The terrain renderer: camera framing, analytic shading of simple grids, and a golden image of a real DEM.
 #include "loaders/dem_loader.h"
 #include "loaders/image_io.h"
-#include "tracer/terrain_renderer.h"
+#include "tracer/terrain/terrain_renderer.h"
 #include "support/golden.h"
 
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-#include "tracer/camera.h"
+#include "tracer/terrain/camera.h"
 
 #include "tracer/core/angles.h"
 

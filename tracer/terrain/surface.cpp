@@ -1,4 +1,4 @@
-#include "tracer/surface.h"
+#include "tracer/terrain/surface.h"
 
 #include <array>
 #include <string>

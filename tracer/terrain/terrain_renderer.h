@@ -5,10 +5,11 @@
 
 #include "heightfield/height_grid.h"
 #include "heightfield/traversal.h"
-#include "tracer/camera.h"
+#include "tracer/terrain/camera.h"
 #include "tracer/sampling/film.h"
 #include "tracer/sky/sky_description.h"
-#include "tracer/surface.h"
+#include "tracer/terrain/surface.h"
+#include "tracer/terrain/shading.h"
 
 #include <algorithm>
 #include <array>
@@ -16,16 +17,6 @@
 #include <functional>
 
 namespace terracast {
-
-// The sun as a directional light.
-struct Sun {
-    double azimuthDeg = 315.0;   // compass direction towards the sun, clockwise from north
-    double elevationDeg = 35.0;  // angle above the horizon
-    float intensity = 1.0f;      // irradiance scale on a surface facing the sun
-
-    // Unit vector from the ground towards the sun (x east, y north, z up).
-    glm::dvec3 direction() const;
-};
 
 // Everything a terrain render needs besides the grid.
 struct TerrainRenderSettings {
@@ -80,16 +71,5 @@ void traceCameraRays(const TerrainSurface& surface, const PinholeCamera& camera,
 // Renders `grid`, traced through `surface`, into a linear RGB film.
 Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const TerrainRenderSettings& settings,
                    RenderStats* stats = nullptr);
-
-// The shadow ray a hit needs towards the sun, or none when the surface faces away from it (or the sun is down).
-std::optional<Ray> sunShadowRay(const HeightFieldHit& hit, const glm::dvec3& rayDir, const TerrainRenderSettings& settings);
-
-// A plain look for comparisons (no sky model): height-ramp albedo times the sun (when `sunVisible`) plus a
-// constant ambient term.
-glm::vec3 shadeTerrainHit(const HeightGrid& grid, const HeightFieldHit& hit, const glm::dvec3& rayDir, bool sunVisible,
-                          const TerrainRenderSettings& settings);
-
-// Terrain albedo from a height ramp: lowland green, upland brown, rock grey, snow white.
-glm::vec3 elevationAlbedo(double heightM, double minHeightM, double maxHeightM);
 
 }  // namespace terracast

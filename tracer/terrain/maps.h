@@ -4,7 +4,7 @@
 
 #include "heightfield/height_grid.h"
 #include "heightfield/traversal.h"
-#include "tracer/terrain_renderer.h"
+#include "tracer/terrain/terrain_renderer.h"
 
 #include <cstdint>
 #include <optional>

@@ -1,4 +1,4 @@
-#include "tracer/embree_terrain.h"
+#include "tracer/terrain/embree_terrain.h"
 
 #include <embree3/rtcore.h>
 

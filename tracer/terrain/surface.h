@@ -4,7 +4,7 @@
 #include "heightfield/height_grid.h"
 #include "heightfield/traversal.h"
 #include "tracer/core/surface_method.h"
-#include "tracer/embree_terrain.h"
+#include "tracer/terrain/embree_terrain.h"
 
 #include <memory>
 #include <optional>

@@ -1,4 +1,4 @@
-#include "tracer/maps.h"
+#include "tracer/terrain/maps.h"
 
 #include "tracer/core/angles.h"
 
