@@ -17,7 +17,7 @@
 #include "tracer/core/cancel.h"
 #include "tracer/compare.h"
 #include "tracer/terrain/maps.h"
-#include "tracer/scene_renderer.h"
+#include "tracer/scene/scene_renderer.h"
 #include "tracer/terrain/terrain_renderer.h"
 
 #include <fmt/core.h>

@@ -2,7 +2,8 @@
 #pragma once
 
 #include "loaders/dem_loader.h"
-#include "tracer/scene.h"
+#include "tracer/scene/scene_assets.h"
+#include "tracer/scene/scene_description.h"
 
 #include <string>
 #include <vector>

@@ -3,7 +3,7 @@
 // files and unknown material names are InputErrors of one line, "scene.toml:LINE:COL: message".
 #pragma once
 
-#include "tracer/scene_description.h"
+#include "tracer/scene/scene_description.h"
 
 #include <optional>
 #include <string>

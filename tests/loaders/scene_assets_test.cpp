@@ -6,7 +6,7 @@
 #include "loaders/dem_loader.h"
 #include "tracer/core/errors.h"
 #include "loaders/scene_assets.h"
-#include "tracer/scene_renderer.h"
+#include "tracer/scene/scene_renderer.h"
 
 #include <catch2/catch.hpp>
 #include <gdal_priv.h>

@@ -3,7 +3,7 @@
 #include "tracer/core/angles.h"
 #include "tracer/sky/atmosphere.h"
 
-#include "tracer/scene.h"
+#include "tracer/scene/scene.h"
 
 #include <catch2/catch.hpp>
 

@@ -4,7 +4,7 @@
 // reflections, how fast soft-shadow noise falls with the sample count, pixel filters across an edge, and the
 // sample counts of adaptive sampling.
 #include "support/convergence.h"
-#include "tracer/scene_renderer.h"
+#include "tracer/scene/scene_renderer.h"
 
 #include <catch2/catch.hpp>
 

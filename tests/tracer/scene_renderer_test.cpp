@@ -1,8 +1,8 @@
 // The Whitted scene tracer against analytic answers: sphere silhouettes and distances, Fresnel, total internal
 // reflection, Beer-Lambert through a slab, a mirror image, the rays each scene pays for, shadows through glass
 // under either Fresnel model, and dispersion by Snell's law per colour channel.
-#include "tracer/optics.h"
-#include "tracer/scene_renderer.h"
+#include "tracer/scene/optics.h"
+#include "tracer/scene/scene_renderer.h"
 
 #include <catch2/catch.hpp>
 

@@ -3,7 +3,7 @@
 #include "loaders/scene_assets.h"
 #include "loaders/scene_file.h"
 #include "support/golden.h"
-#include "tracer/scene_renderer.h"
+#include "tracer/scene/scene_renderer.h"
 
 #include <catch2/catch.hpp>
 

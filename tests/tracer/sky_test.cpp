@@ -1,11 +1,11 @@
 // The render's sky: sunlight through the air, sky light through the open part of the hemisphere, aerial
 // perspective, and the rays each sky setting costs.
 #include "tracer/core/angles.h"
-#include "tracer/scene_renderer.h"
+#include "tracer/scene/scene_renderer.h"
 #include "tracer/sky/sky.h"
 #include "tracer/terrain/terrain_renderer.h"
 
-#include "tracer/scene.h"
+#include "tracer/scene/scene.h"
 
 #include <catch2/catch.hpp>
 

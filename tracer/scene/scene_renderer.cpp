@@ -1,8 +1,8 @@
-#include "tracer/scene_renderer.h"
+#include "tracer/scene/scene_renderer.h"
 
 #include "tracer/core/angles.h"
 
-#include "tracer/optics.h"
+#include "tracer/scene/optics.h"
 #include "tracer/core/parallel.h"
 #include "tracer/sampling/rng.h"
 #include "tracer/terrain/terrain_renderer.h"

@@ -6,8 +6,8 @@
 #include "tracer/sampling/film.h"
 #include "tracer/sampling/filters.h"
 #include "tracer/sampling/samplers.h"
-#include "tracer/scene.h"
-#include "tracer/scene_camera.h"
+#include "tracer/scene/scene.h"
+#include "tracer/scene/scene_camera.h"
 #include "tracer/sky/sky.h"
 
 #include <cstdint>

@@ -1,7 +1,7 @@
 // A bounding volume hierarchy over the scene's bounded objects, built once over exactly the objects present.
 #pragma once
 
-#include "tracer/primitives.h"
+#include "tracer/scene/primitives.h"
 
 #include <cstdint>
 #include <functional>

@@ -1,4 +1,4 @@
-#include "tracer/bvh.h"
+#include "tracer/scene/bvh.h"
 
 #include <algorithm>
 #include <numeric>

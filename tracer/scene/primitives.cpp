@@ -1,4 +1,4 @@
-#include "tracer/primitives.h"
+#include "tracer/scene/primitives.h"
 
 #include "tracer/core/angles.h"
 

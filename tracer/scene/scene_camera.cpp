@@ -1,4 +1,4 @@
-#include "tracer/scene_camera.h"
+#include "tracer/scene/scene_camera.h"
 
 #include "tracer/core/angles.h"
 

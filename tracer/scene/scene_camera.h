@@ -2,7 +2,7 @@
 #pragma once
 
 #include "heightfield/geometry.h"
-#include "tracer/scene_description.h"
+#include "tracer/scene/scene_description.h"
 
 #include <optional>
 

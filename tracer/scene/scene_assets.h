@@ -1,0 +1,31 @@
+// What a scene description names but cannot hold, once loaded: the height grids of its height fields and the
+// images its materials drape over the terrain. Plain data, filled by the loaders.
+#pragma once
+
+#include "heightfield/height_grid.h"
+
+#include <glm/glm.hpp>
+
+#include <memory>
+#include <vector>
+
+namespace terracast {
+
+// An RGB raster sampled over a height field's footprint (a draped orthophoto), row 0 at the north edge.
+struct DrapeImage {
+    int width = 0;
+    int height = 0;
+    std::vector<float> rgb;  // linear RGB, width * height * 3
+
+    // Bilinear lookup at (u, v) in [0, 1]^2 over the footprint, v growing northward.
+    glm::vec3 sample(double u, double v) const;
+};
+
+// What a description names but cannot hold: loaded height grids (one per height-field object, in object
+// order) and draped images (one per material, empty where none).
+struct SceneAssets {
+    std::vector<std::shared_ptr<const HeightGrid>> grids;
+    std::vector<std::shared_ptr<const DrapeImage>> drapes;
+};
+
+}  // namespace terracast
