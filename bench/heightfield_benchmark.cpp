@@ -7,7 +7,7 @@
 #include "tracer/core/angles.h"
 #include "heightfield/fractal_terrain.h"
 #include "heightfield/traversal.h"
-#include "tracer/bench.h"
+#include "tracer/measure/bench.h"
 
 #include <benchmark/benchmark.h>
 

@@ -4,7 +4,8 @@
 #pragma once
 
 #include "heightfield/traversal.h"
-#include "tracer/bench.h"
+#include "tracer/measure/bench.h"
+#include "tracer/measure/compare.h"
 #include "tracer/terrain/surface.h"
 #include "tracer/sampling/filters.h"
 #include "tracer/sampling/samplers.h"

@@ -1,7 +1,7 @@
 // The accuracy report on real DEMs: the goals of each method against the long-double reference.
 #include "loaders/dem_loader.h"
 #include "support/run_command.h"
-#include "tracer/accuracy.h"
+#include "tracer/measure/accuracy.h"
 
 #include <catch2/catch.hpp>
 

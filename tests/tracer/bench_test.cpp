@@ -2,7 +2,7 @@
 // the highest peak looking 8 degrees down, a grid's report holds every method, refused ones as skipped, and
 // each pass's traces go round the methods in turn, band by band, in alternating order.
 #include "heightfield/fractal_terrain.h"
-#include "tracer/bench.h"
+#include "tracer/measure/bench.h"
 
 #include <catch2/catch.hpp>
 

@@ -2,7 +2,7 @@
 #include "loaders/dem_loader.h"
 #include "loaders/image_io.h"
 #include "support/run_command.h"
-#include "tracer/compare.h"
+#include "tracer/measure/compare.h"
 
 #include <catch2/catch.hpp>
 #include <expat.h>

@@ -6,13 +6,6 @@
 
 namespace terracast {
 
-const std::vector<SurfaceMethod>& compareMethods() {
-    static const std::vector<SurfaceMethod> methods{SurfaceMethod::Bilinear, SurfaceMethod::BilinearDouble,
-                                                    SurfaceMethod::Triangles, SurfaceMethod::Nearest,
-                                                    SurfaceMethod::Embree, SurfaceMethod::EmbreeGrid};
-    return methods;
-}
-
 TerrainSurface::TerrainSurface(const HeightGrid& grid, SurfaceMethod method, int threads, Traversal traversal)
     : grid_(grid), method_(method), cell_(directCellMethod(method).value_or(CellMethod::Bilinear)), traversal_(traversal) {
     if (method == SurfaceMethod::Embree)

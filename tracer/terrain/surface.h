@@ -14,8 +14,6 @@
 
 namespace terracast {
 
-// The methods `compare` runs, in report order.
-const std::vector<SurfaceMethod>& compareMethods();
 
 // A surface that answers nearest-hit and occlusion queries in the grid's local frame.
 class TerrainSurface {

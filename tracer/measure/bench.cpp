@@ -1,8 +1,9 @@
-#include "tracer/bench.h"
+#include "tracer/measure/bench.h"
 
 #include "tracer/core/angles.h"
 
-#include "tracer/compare.h"
+#include "tracer/measure/compare.h"
+#include "tracer/measure/svg_chart.h"
 #include "tracer/terrain/terrain_renderer.h"
 
 #include <algorithm>
@@ -279,19 +280,6 @@ BenchGridResult benchGrid(const HeightGrid& grid, const BenchSettings& s) {
 
 namespace {
 
-// Text for SVG character data and attribute values.
-std::string xmlEscaped(const std::string& text) {
-    std::string out;
-    for (char c : text) {
-        if (c == '&') out += "&amp;";
-        else if (c == '<') out += "&lt;";
-        else if (c == '>') out += "&gt;";
-        else if (c == '"') out += "&quot;";
-        else out += c;
-    }
-    return out;
-}
-
 // One colour per method, in benchMethods() order; Embree's lines are dashed, so the baseline stands out.
 const char* methodColour(BenchMethod m) {
     switch (m) {
@@ -350,15 +338,9 @@ std::string benchRatesSvg(const std::vector<BenchGridResult>& grids, const std::
     auto px = [&](int panel, double size) { return plotLeft[panel] + (std::log10(size) - xLo) / (xHi - xLo) * plotW; };
     auto py = [&](double mrays) { return bottom - (std::log10(mrays) - dLo) / (dHi - dLo) * (bottom - top); };
 
-    std::string svg;
+    SvgChart svg(W, H);
     char buf[768];
-    auto add = [&](const char* format, auto... args) {
-        std::snprintf(buf, sizeof buf, format, args...);
-        svg += buf;
-    };
-    add("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" viewBox=\"0 0 %.0f %.0f\" "
-        "font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n",
-        W, H, W, H);
+    const auto add = [&](const char* format, auto... args) { svg.add(format, args...); };
     const std::string title = "Camera rays per second against grid size" +
                               (threads > 0 ? " at " + std::to_string(threads) + (threads == 1 ? " thread" : " threads") : "");
     add("<text x=\"%.0f\" y=\"22\" font-size=\"15\">%s</text>\n", plotLeft[0], xmlEscaped(title).c_str());
@@ -388,13 +370,9 @@ std::string benchRatesSvg(const std::vector<BenchGridResult>& grids, const std::
                 "text-anchor=\"middle\">%lld</text>\n",
                 x, top, x, bottom, x, bottom + 16, (long long)size);
         }
-        add("<rect x=\"%.0f\" y=\"%.0f\" width=\"%.0f\" height=\"%.0f\" fill=\"none\" stroke=\"black\"/>\n", x0, top,
-            plotW, bottom - top);
-        add("<text x=\"%.0f\" y=\"%.0f\" text-anchor=\"middle\">grid size, vertices per side (log)</text>\n",
-            (x0 + x1) / 2, bottom + 36);
-        add("<text transform=\"translate(%.0f %.0f) rotate(-90)\" text-anchor=\"middle\">million camera rays per second "
-            "(log)</text>\n",
-            x0 - 48, (top + bottom) / 2);
+        svg.frame(x0, top, plotW, bottom - top);
+        svg.xTitle((x0 + x1) / 2, bottom + 36, "grid size, vertices per side (log)");
+        svg.yTitle(x0 - 48, (top + bottom) / 2, "million camera rays per second (log)");
         // One line per method, then its markers on top.
         for (BenchMethod method : methods) {
             std::string points, markers;
@@ -415,9 +393,9 @@ std::string benchRatesSvg(const std::vector<BenchGridResult>& grids, const std::
                 "points=\"%s\"/>\n",
                 benchMethodName(method), benchCameraName(cameras[panel]), methodColour(method),
                 isEmbree(method) ? " stroke-dasharray=\"6 3\"" : "", points.c_str());
-            svg += markers;
+            svg.raw(markers);
         }
-        svg += "</g>\n";
+        svg.raw("</g>\n");
     }
 
     // The legend: one entry per method, in a row under both panels.
@@ -431,8 +409,7 @@ std::string benchRatesSvg(const std::vector<BenchGridResult>& grids, const std::
             benchMethodName(method));
         lx += 44 + 8.0 * double(std::string(benchMethodName(method)).size()) + 24;
     }
-    svg += "</svg>\n";
-    return svg;
+    return svg.finish();
 }
 
 }  // namespace terracast

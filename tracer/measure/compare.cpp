@@ -1,4 +1,6 @@
-#include "tracer/compare.h"
+#include "tracer/measure/compare.h"
+
+#include "tracer/measure/svg_chart.h"
 
 #include "tracer/sky/sky.h"
 
@@ -98,6 +100,13 @@ MethodComparison traceMethod(const HeightGrid& grid, SurfaceMethod method, const
 }
 
 }  // namespace
+
+const std::vector<SurfaceMethod>& compareMethods() {
+    static const std::vector<SurfaceMethod> methods{SurfaceMethod::Bilinear, SurfaceMethod::BilinearDouble,
+                                                    SurfaceMethod::Triangles, SurfaceMethod::Nearest,
+                                                    SurfaceMethod::Embree, SurfaceMethod::EmbreeGrid};
+    return methods;
+}
 
 CompareReport compareSurfaces(const HeightGrid& grid, const CompareSettings& settings) {
     CompareReport report;
@@ -270,48 +279,30 @@ std::string tradeoffSvg(const CompareReport& report) {
         const double l = v > 0 ? std::log10(v) : dyLo;
         return H - bottom - (l - dyLo) / (dyHi - dyLo) * (H - top - bottom);
     };
-    std::string svg;
-    char buf[512];
-    std::snprintf(buf, sizeof buf,
-                  "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" viewBox=\"0 0 %.0f %.0f\" "
-                  "font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n",
-                  W, H, W, H);
-    svg += buf;
-    std::snprintf(buf, sizeof buf, "<text x=\"%.0f\" y=\"18\" font-size=\"14\">Speed against error: %dx%d camera rays</text>\n",
-                  left, report.width, report.height);
-    svg += buf;
+    SvgChart svg(W, H);
+    svg.add("<text x=\"%.0f\" y=\"18\" font-size=\"14\">Speed against error: %dx%d camera rays</text>\n", left,
+            report.width, report.height);
     for (double d = dxLo; d <= dxHi; ++d) {
         const double x = px(std::pow(10.0, d));
-        std::snprintf(buf, sizeof buf,
-                      "<line x1=\"%.1f\" y1=\"%.0f\" x2=\"%.1f\" y2=\"%.0f\" stroke=\"#ddd\"/>\n<text x=\"%.1f\" y=\"%.0f\" "
-                      "text-anchor=\"middle\">1e%d</text>\n",
-                      x, top, x, H - bottom, x, H - bottom + 16, int(d));
-        svg += buf;
+        svg.add("<line x1=\"%.1f\" y1=\"%.0f\" x2=\"%.1f\" y2=\"%.0f\" stroke=\"#ddd\"/>\n<text x=\"%.1f\" y=\"%.0f\" "
+                "text-anchor=\"middle\">1e%d</text>\n",
+                x, top, x, H - bottom, x, H - bottom + 16, int(d));
     }
     for (double d = dyLo; d <= dyHi; ++d) {
         const double y = py(std::pow(10.0, d));
-        std::snprintf(buf, sizeof buf,
-                      "<line x1=\"%.0f\" y1=\"%.1f\" x2=\"%.0f\" y2=\"%.1f\" stroke=\"#ddd\"/>\n<text x=\"%.0f\" y=\"%.1f\" "
-                      "text-anchor=\"end\">1e%d</text>\n",
-                      left, y, W - right, y, left - 6, y + 4, int(d));
-        svg += buf;
+        svg.add("<line x1=\"%.0f\" y1=\"%.1f\" x2=\"%.0f\" y2=\"%.1f\" stroke=\"#ddd\"/>\n<text x=\"%.0f\" y=\"%.1f\" "
+                "text-anchor=\"end\">1e%d</text>\n",
+                left, y, W - right, y, left - 6, y + 4, int(d));
     }
-    std::snprintf(buf, sizeof buf,
-                  "<rect x=\"%.0f\" y=\"%.0f\" width=\"%.0f\" height=\"%.0f\" fill=\"none\" stroke=\"black\"/>\n"
-                  "<text x=\"%.0f\" y=\"%.0f\" text-anchor=\"middle\">primary rays per second (log)</text>\n"
-                  "<text transform=\"translate(18 %.0f) rotate(-90)\" text-anchor=\"middle\">p99 hit-distance error, m "
-                  "(log; 0 at the bottom)</text>\n",
-                  left, top, W - left - right, H - top - bottom, (left + W - right) / 2, H - 16, (top + H - bottom) / 2);
-    svg += buf;
+    svg.frame(left, top, W - left - right, H - top - bottom);
+    svg.xTitle((left + W - right) / 2, H - 16, "primary rays per second (log)");
+    svg.yTitle(18, (top + H - bottom) / 2, "p99 hit-distance error, m (log; 0 at the bottom)");
     for (const auto& m : report.methods) {
         const double x = px(m.primaryRaysPerSecond), y = py(m.tErrorM.p99);
-        std::snprintf(buf, sizeof buf,
-                      "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"#1f77b4\"/>\n<text x=\"%.1f\" y=\"%.1f\">%s</text>\n",
-                      x, y, x + 8, y - 6, surfaceMethodName(m.method));
-        svg += buf;
+        svg.add("<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"#1f77b4\"/>\n<text x=\"%.1f\" y=\"%.1f\">%s</text>\n", x,
+                y, x + 8, y - 6, surfaceMethodName(m.method));
     }
-    svg += "</svg>\n";
-    return svg;
+    return svg.finish();
 }
 
 }  // namespace terracast

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "heightfield/height_grid.h"
-#include "tracer/accuracy.h"
+#include "tracer/measure/accuracy.h"
 #include "tracer/sampling/film.h"
 #include "tracer/terrain/surface.h"
 #include "tracer/terrain/terrain_renderer.h"
@@ -14,6 +14,9 @@
 #include <vector>
 
 namespace terracast {
+
+// The methods `compare` runs, in report order.
+const std::vector<SurfaceMethod>& compareMethods();
 
 struct CompareSettings {
     TerrainRenderSettings render;                          // size, camera, sun, threads (method unused)

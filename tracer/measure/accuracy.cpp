@@ -1,4 +1,4 @@
-#include "tracer/accuracy.h"
+#include "tracer/measure/accuracy.h"
 
 #include "tracer/core/angles.h"
 
