@@ -8,6 +8,7 @@
 #include "loaders/loader_support.h"
 
 #include "tracer/core/angles.h"
+#include "tracer/core/resources.h"
 #include "loaders/dem_loader.h"
 
 #include "tracer/core/errors.h"
@@ -74,7 +75,7 @@ void checkRasterSize(const std::string& path, int64_t width, int64_t height, dou
         throw InputError(fmt::format("{}: {} x {} raster has no cell to trace (need at least 2 x 2)", path, width,
                                      height));
     const double bytes = static_cast<double>(width) * static_cast<double>(height) * kBytesPerVertex;
-    const double limit = maxBytes > 0.0 ? maxBytes : defaultMemoryLimitBytes();
+    const double limit = memoryLimitBytes(maxBytes);
     if (bytes > limit)
         throw InputError(fmt::format("{}: {} x {} raster needs about {:.2f} GiB to load and trace, more than the "
                                      "{:.2f} GiB limit (--max-memory)",
@@ -233,7 +234,7 @@ void checkBlockSize(const std::string& path, GDALDataset& dataset, GDALRasterBan
     const double blockBytes = static_cast<double>(std::max(blockX, 1)) * std::max(blockY, 1) * sampleBytes;
     const double rasterBytes =
         static_cast<double>(dataset.GetRasterXSize()) * static_cast<double>(dataset.GetRasterYSize()) * sampleBytes;
-    const double limit = maxBytes > 0.0 ? maxBytes : defaultMemoryLimitBytes();
+    const double limit = memoryLimitBytes(maxBytes);
     const double plausibleBytes = std::max(kAlwaysAllowedBytes, rasterBytes);
     const double allowedBytes = std::min(limit, plausibleBytes);
     if (blockBytes <= allowedBytes) return;
@@ -497,12 +498,6 @@ MetresPerDegree metresPerDegree(double latDeg) {
     const double primeVerticalM = a / std::sqrt(w);
     const double radiansPerDegree = radians(1.0);
     return {meridionalM * radiansPerDegree, primeVerticalM * std::cos(phi) * radiansPerDegree};
-}
-
-double defaultMemoryLimitBytes() {
-    const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
-    if (pages <= 0 || pageSize <= 0) return 64.0 * kGiB;
-    return 0.8 * double(pages) * double(pageSize);
 }
 
 }  // namespace terracast

@@ -30,9 +30,6 @@ struct DemLoadOptions {
     double maxBytes = 0.0;          // refuse rasters needing more memory than this; 0 = 80% of physical memory
 };
 
-// 80% of the machine's physical memory: the default memory limit.
-double defaultMemoryLimitBytes();
-
 // A loaded DEM: plain data, no GDAL or OpenImageIO types.
 struct LoadedDem {
     std::string path;               // as given

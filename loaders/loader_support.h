@@ -2,6 +2,7 @@
 #pragma once
 
 #include "tracer/core/errors.h"
+#include "tracer/core/text.h"
 
 #include <cpl_error.h>
 #include <fmt/format.h>
@@ -18,13 +19,6 @@
 #include <string>
 
 namespace terracast::loader_support {
-
-// The extension of a path, lower-cased, with its dot (".tif").
-inline std::string lowerExtension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return ext;
-}
 
 // The first line of a library's error message, without trailing blanks.
 inline std::string firstLine(const std::string& message) {

@@ -1,5 +1,7 @@
 #include "tracer/core/surface_method.h"
 
+#include "tracer/core/errors.h"
+
 #include <array>
 #include <string>
 #include <utility>
@@ -28,6 +30,12 @@ std::optional<CellMethod> directCellMethod(SurfaceMethod m) {
     for (const auto& [surface, cell] : kDirect)
         if (surface == m) return cell;
     return std::nullopt;
+}
+
+CellMethod requireDirectMethod(SurfaceMethod m, const std::string& what) {
+    if (const auto cell = directCellMethod(m)) return *cell;
+    throw InputError("--method: " + what + " traces the grid directly; expected bilinear, bilinear-double, "
+                     "triangles, nearest or reference, found '" + surfaceMethodName(m) + "'");
 }
 
 std::optional<SurfaceMethod> parseSurfaceMethod(std::string_view name) {

@@ -6,6 +6,7 @@
 
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 
 namespace terracast {
@@ -29,5 +30,8 @@ const char* surfaceMethodName(SurfaceMethod method);
 const char* surfaceMethodList();
 // The cell method behind a direct method; none for Embree's.
 std::optional<CellMethod> directCellMethod(SurfaceMethod method);
+// The same for a command that traces the grid directly (`what`, as "shadow" or "--view map"): throws InputError
+// for Embree's methods.
+CellMethod requireDirectMethod(SurfaceMethod method, const std::string& what);
 
 }  // namespace terracast

@@ -1,5 +1,12 @@
 #include "tracer/measure/bench.h"
 
+#include "heightfield/fractal_terrain.h"
+#include "tracer/core/errors.h"
+
+#include <fmt/format.h>
+
+#include <sstream>
+
 #include "tracer/core/angles.h"
 
 #include "tracer/measure/compare.h"
@@ -70,6 +77,53 @@ SurfaceMethod benchSurfaceMethod(BenchMethod method) { return info(method).surfa
 Traversal benchTraversal(BenchMethod method) { return info(method).traversal; }
 
 const char* benchCameraName(BenchCamera camera) { return camera == BenchCamera::Corner ? "corner" : "grazing"; }
+
+// Parses "513,2049,8193" into sizes of 2^n + 1 vertices from 3 to 65537.
+std::vector<int64_t> parseBenchSizes(const std::string& text) {
+    std::vector<int64_t> sizes;
+    std::stringstream in(text);
+    std::string item;
+    const auto bad = [&] {
+        return InputError(fmt::format("--sizes: expected comma-separated grid sizes of 2^n + 1 vertices from 3 to "
+                                      "65537 (such as 513,2049,8193), found '{}'",
+                                      text));
+    };
+    while (std::getline(in, item, ',')) {
+        size_t used = 0;
+        int64_t v = 0;
+        try {
+            v = std::stoll(item, &used);
+        } catch (const std::exception&) {
+            throw bad();
+        }
+        if (used != item.size() || !isFractalTerrainSize(v) || v > 65537) throw bad();
+        sizes.push_back(v);
+    }
+    if (sizes.empty() || (!text.empty() && text.back() == ',')) throw bad();
+    return sizes;
+}
+
+// Parses "bilinear,triangles" into bench methods, in report order; embree is always measured (the ratios'
+// reference).
+std::vector<BenchMethod> parseBenchMethods(const std::string& text) {
+    std::vector<bool> wanted(benchMethods().size(), false);
+    std::stringstream in(text);
+    std::string item;
+    while (std::getline(in, item, ',')) {
+        const auto m = parseBenchMethod(item);
+        if (!m)
+            throw InputError(fmt::format("--methods: expected a comma-separated list of bilinear, bilinear-flat, "
+                                         "triangles, embree, embree-grid, found '{}'",
+                                         item));
+        wanted[size_t(std::find(benchMethods().begin(), benchMethods().end(), *m) - benchMethods().begin())] = true;
+    }
+    if (text.empty() || text.back() == ',')
+        throw InputError(fmt::format("--methods: expected a comma-separated list of methods, found '{}'", text));
+    std::vector<BenchMethod> methods;
+    for (size_t k = 0; k < wanted.size(); ++k)
+        if (wanted[k] || benchMethods()[k] == BenchMethod::Embree) methods.push_back(benchMethods()[k]);
+    return methods;
+}
 
 PinholeCamera benchCamera(const HeightGrid& grid, BenchCamera camera, double aspect) {
     if (camera == BenchCamera::Corner) return autoCamera(grid, aspect);

@@ -80,6 +80,12 @@ public:
 // True when the calling thread flushes denormal results and operands to zero.
 bool denormalsFlushed();
 
+// Parses "513,2049,8193" into sizes of 2^n + 1 vertices from 3 to 65537; throws InputError naming --sizes.
+std::vector<int64_t> parseBenchSizes(const std::string& text);
+// Parses "bilinear,triangles" into bench methods, in report order, embree always among them (the ratios'
+// reference); throws InputError naming --methods.
+std::vector<BenchMethod> parseBenchMethods(const std::string& text);
+
 struct BenchSettings {
     int width = 1024;                                   // pixels
     int height = 768;                                   // pixels

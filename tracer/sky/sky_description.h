@@ -6,10 +6,27 @@
 #include <glm/glm.hpp>
 
 #include <optional>
+#include <string_view>
 
 namespace terracast {
 
 enum class SkyKind { Physical, Gradient, Flat, None };
+
+// The name of a sky model as options and scene files spell it, and back.
+inline const char* skyKindName(SkyKind kind) {
+    switch (kind) {
+    case SkyKind::Physical: return "physical";
+    case SkyKind::Gradient: return "gradient";
+    case SkyKind::Flat: return "flat";
+    case SkyKind::None: return "none";
+    }
+    return "physical";
+}
+inline std::optional<SkyKind> parseSkyKind(std::string_view name) {
+    for (SkyKind k : {SkyKind::Physical, SkyKind::Gradient, SkyKind::Flat, SkyKind::None})
+        if (name == skyKindName(k)) return k;
+    return std::nullopt;
+}
 
 struct SkyDescription {
     SkyKind kind = SkyKind::Physical;

@@ -1,6 +1,6 @@
 // The 16-bit PNG height maps `bench --file-to-picture` writes read back, through the DEM loader `render` uses, as
 // the grid's heights rounded to whole metres and clamped to 0..65535, rows the right way up.
-#include "cli/height_png.h"
+#include "loaders/height_png.h"
 #include "heightfield/fractal_terrain.h"
 #include "loaders/dem_loader.h"
 

@@ -1,4 +1,4 @@
-#include "cli/height_png.h"
+#include "loaders/height_png.h"
 
 #include "loaders/image_io.h"
 

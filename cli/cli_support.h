@@ -1,0 +1,72 @@
+// What every command of the `terracast` executable shares: typed option parsers (sizes, pairs, byte counts,
+// named values), the DEM options, the listener that prints a job's lines on stdout and stderr, and the
+// wrapper that turns a job's exceptions into one error line and an exit code.
+#pragma once
+
+#include "tracer/core/listener.h"
+#include "tracer/terrain/dem_pipeline.h"
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace terracast::cli {
+
+// A subcommand and what runs it once the command line is parsed; the runner returns the exit code.
+struct Command {
+    CLI::App* app = nullptr;
+    std::function<int()> run;
+};
+using Commands = std::vector<Command>;
+
+// Each family of commands adds its subcommands to `app` and their runners to `commands`.
+void addInfoCommand(CLI::App& app, Commands& commands);
+void addRenderCommand(CLI::App& app, Commands& commands);
+void addMapCommands(CLI::App& app, Commands& commands);
+void addMeasureCommands(CLI::App& app, Commands& commands);
+void addSceneCommand(CLI::App& app, Commands& commands);
+void addBenchCommand(CLI::App& app, Commands& commands);
+
+// Runs a job: 0 when it returns, 2 with one line for bad input (InputError, GridError), 130 when interrupted,
+// 1 for any other failure.
+int guarded(const std::function<void()>& job);
+
+// Prints a job's report on stdout, warnings always, notes unless `quiet`, and, when stderr is a terminal,
+// status lines and progress (percentage, rays per second, time left) unless `quiet`.
+class ConsoleListener {
+public:
+    explicit ConsoleListener(bool quiet);
+    ~ConsoleListener();
+    const RunListener& listener() const { return listener_; }
+
+private:
+    struct Progress;
+    std::unique_ptr<Progress> progress_;
+    RunListener listener_;
+};
+
+// The option parsers: each returns nothing on malformed text.
+std::optional<double> parseByteCount(const std::string& text);         // "512M", "8G", "1.5T", "1000000"
+bool parseSize(const std::string& text, int& width, int& height);      // "WxH", positive, at most 65536
+bool parsePair(const std::string& text, double& a, double& b);         // "A,B", finite
+
+// Throws InputError "OPTION: expected ..., found 'TEXT'" unless `text` parses.
+void parseSizeOption(const std::string& text, int& width, int& height);
+void parseSunOption(const std::string& text, double& azimuthDeg, double& elevationDeg);
+SurfaceMethod parseMethodOption(const std::string& text, const char* option = "--method");
+std::optional<PinholeCamera> parseCameraOption(const std::string& text);  // empty text: none
+UtcInstant parseSunTimeOption(const std::string& text);
+// X,Y pixel indices.
+void parsePixelOption(const std::string& text, const char* option, int& x, int& y);
+
+// --max-memory SIZE into `bytes`.
+void addMaxMemoryOption(CLI::App& cmd, double& bytes, const std::string& help);
+// The DEM argument and the options of every command that reads one.
+void addDemOptions(CLI::App& cmd, DemSource& dem);
+
+}  // namespace terracast::cli

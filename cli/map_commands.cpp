@@ -1,0 +1,91 @@
+// `shadow`, `horizon` and `viewshed`: option parsing into typed values; the work is in map_pipeline.
+#include "cli/cli_support.h"
+
+#include "tracer/core/errors.h"
+#include "tracer/terrain/map_pipeline.h"
+
+#include <fmt/core.h>
+
+namespace terracast::cli {
+
+namespace {
+
+void addThreadsAndMethod(CLI::App& cmd, int& threads, std::string& method) {
+    cmd.add_option("--method", method, "Direct cell method (default bilinear)");
+    cmd.add_option("--threads", threads, "Worker threads, 0 = all cores")->check(CLI::NonNegativeNumber);
+}
+
+}  // namespace
+
+void addMapCommands(CLI::App& app, Commands& commands) {
+    {
+        struct Texts {
+            ShadowMapOptions options;
+            std::string sun = "315,35", method = "bilinear";
+        };
+        auto t = std::make_shared<Texts>();
+        auto* cmd = app.add_subcommand("shadow", "Sun shadow mask per DEM vertex (1 blocked, 0 lit), as GeoTIFF");
+        addDemOptions(*cmd, t->options.dem);
+        cmd->add_option("-o,--output", t->options.output, "Output GeoTIFF (.tif) on the DEM's grid")->required();
+        cmd->add_option("--sun", t->sun, "Sun azimuth,elevation in degrees (default 315,35)");
+        cmd->add_option("--sun-size", t->options.sunSizeDeg,
+                        "Sun's angular diameter in degrees; > 0 gives the blocked fraction (default 0: a point)");
+        addThreadsAndMethod(*cmd, t->options.threads, t->method);
+        commands.push_back({cmd, [t] {
+                                return guarded([&] {
+                                    parseSunOption(t->sun, t->options.sunAzimuthDeg, t->options.sunElevationDeg);
+                                    t->options.method = parseMethodOption(t->method);
+                                    writeShadowMap(t->options, ConsoleListener(false).listener());
+                                });
+                            }});
+    }
+    {
+        struct Texts {
+            HorizonMapOptions options;
+            std::string method = "bilinear";
+        };
+        auto t = std::make_shared<Texts>();
+        auto* cmd =
+            app.add_subcommand("horizon", "Horizon elevation angle in degrees per DEM vertex towards an azimuth");
+        addDemOptions(*cmd, t->options.dem);
+        cmd->add_option("-o,--output", t->options.output, "Output GeoTIFF (.tif) on the DEM's grid")->required();
+        cmd->add_option("--azimuth", t->options.azimuthDeg, "Azimuth in degrees clockwise from north")->required();
+        addThreadsAndMethod(*cmd, t->options.threads, t->method);
+        commands.push_back({cmd, [t] {
+                                return guarded([&] {
+                                    t->options.method = parseMethodOption(t->method);
+                                    writeHorizonMap(t->options, ConsoleListener(false).listener());
+                                });
+                            }});
+    }
+    {
+        struct Texts {
+            ViewshedMapOptions options;
+            std::string observer, method = "bilinear";
+        };
+        auto t = std::make_shared<Texts>();
+        ViewshedMapOptions& v = t->options;
+        auto* cmd =
+            app.add_subcommand("viewshed", "Visibility from an observer per DEM vertex (1 visible, 0 hidden)");
+        addDemOptions(*cmd, v.dem);
+        cmd->add_option("-o,--output", v.output, "Output GeoTIFF (.tif) on the DEM's grid")->required();
+        cmd->add_option("--observer", t->observer, "Observer X,Y in the DEM's CRS (lon,lat with --lonlat)")->required();
+        cmd->add_flag("--lonlat", v.lonLat, "The observer is WGS84 longitude,latitude");
+        cmd->add_option("--observer-height", v.observerHeightM, "Metres above the terrain (default 1.7)");
+        cmd->add_option("--target-height", v.targetHeightM, "Metres above the terrain (default 0)");
+        cmd->add_option("--curvature-coeff", v.curvatureCoeff,
+                        "Earth curvature and refraction, as gdal_viewshed -cc (default 0.85714; 0 = flat earth)");
+        addThreadsAndMethod(*cmd, v.threads, t->method);
+        commands.push_back({cmd, [t] {
+                                return guarded([&] {
+                                    if (!parsePair(t->observer, t->options.observerX, t->options.observerY))
+                                        throw InputError(
+                                            fmt::format("--observer: expected X,Y, found '{}'", t->observer));
+                                    t->options.method = parseMethodOption(t->method);
+                                    writeViewshedMap(t->options, ConsoleListener(false).listener());
+                                });
+                            }});
+    }
+}
+
+}  // namespace terracast::cli

@@ -1,0 +1,95 @@
+// `info` and `render`: option parsing into typed values; the work is demInfoReport and renderDem.
+#include "cli/cli_support.h"
+
+#include "tracer/core/errors.h"
+
+#include <fmt/core.h>
+
+#include <cstdio>
+
+namespace terracast::cli {
+
+void addInfoCommand(CLI::App& app, Commands& commands) {
+    auto source = std::make_shared<DemSource>();
+    auto* cmd = app.add_subcommand("info", "Describe a DEM: size, CRS, cell size, heights, nodata, memory");
+    addDemOptions(*cmd, *source);
+    commands.push_back({cmd, [source] {
+                            return guarded([&] {
+                                const ConsoleListener console(false);
+                                const std::string report = demInfoReport(*source, console.listener());
+                                console.listener().print(report);
+                            });
+                        }});
+}
+
+void addRenderCommand(CLI::App& app, Commands& commands) {
+    struct Texts {
+        DemRenderOptions options;
+        std::string size = "1280x720", sun = "315,35", method = "bilinear", view = "perspective", colour = "grey";
+        std::string sky = "physical", sunTime, camera;
+        bool noShadows = false, quiet = false;
+    };
+    auto t = std::make_shared<Texts>();
+    DemRenderOptions& render = t->options;
+    auto* cmd = app.add_subcommand("render", "Render a shaded 3D view of a DEM to PNG or EXR");
+    addDemOptions(*cmd, render.dem);
+    cmd->add_option("-o,--output", render.output, "Output image: .png (8-bit sRGB) or .exr (linear half float)")
+        ->required();
+    cmd->add_option("--size", t->size, "Image size WxH in pixels (default 1280x720)");
+    cmd->add_option("--sun", t->sun, "Sun azimuth,elevation in degrees, azimuth clockwise from north (default 315,35)");
+    cmd->add_option("--exaggeration", render.exaggeration, "Vertical exaggeration factor (default 1)");
+    cmd->add_option("--camera", t->camera,
+                    "\"eye=x,y,z look=x,y,z fov=deg\" in the DEM's local metres (origin at the south-west "
+                    "sample); default: from the south-west, 30 degrees down, framing the DEM");
+    cmd->add_option("--method", t->method,
+                    "Surface method: bilinear, bilinear-double, triangles, nearest, reference, embree, embree-grid "
+                    "(default bilinear)");
+    cmd->add_option("--threads", render.threads, "Worker threads, 0 = all cores (default 0)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_flag("-q,--quiet", t->quiet, "No progress or summary on stderr");
+    cmd->add_option("--view", t->view,
+                    "perspective (default), or map: top-down on the DEM's grid, written as GeoTIFF (.tif) or PNG");
+    cmd->add_option("--scale", render.scale, "Map view: output pixels per DEM cell (default 1)");
+    cmd->add_flag("--no-shadows", t->noShadows, "Map view: no cast shadows");
+    cmd->add_option("--sky-samples", render.skySamples,
+                    "Sky-visibility rays per hit (per pixel in the map view), 0 = off (default 4; map view 16)");
+    cmd->add_option("--sky", t->sky,
+                    "Sky: physical (Rayleigh and Mie scattering with aerial perspective; default), gradient, "
+                    "flat or none");
+    cmd->add_option("--haze", render.haze, "Physical sky: multiplies aerosol (Mie) scattering (default 1)");
+    cmd->add_option("--sun-time", t->sunTime,
+                    "Place the sun where it stands at this instant over the DEM's centre, e.g. "
+                    "2026-06-21T19:30Z (instead of --sun)");
+    cmd->add_option("--seed", render.seed, "Random seed for the sky-visibility directions (default 0)");
+    cmd->add_option("--colour", t->colour, "Map view: grey (default) or ramp (by elevation)");
+    cmd->add_option("--hillshade-blend", render.hillshadeBlend,
+                    "Map view: weight of a plain hillshade without shadows or sky, 0..1 (default 0)");
+    commands.push_back({cmd, [t] {
+                            return guarded([&] {
+                                DemRenderOptions& r = t->options;
+                                parseSizeOption(t->size, r.width, r.height);
+                                parseSunOption(t->sun, r.sunAzimuthDeg, r.sunElevationDeg);
+                                r.method = parseMethodOption(t->method);
+                                if (!t->sunTime.empty()) r.sunTime = parseSunTimeOption(t->sunTime);
+                                if (t->view != "perspective" && t->view != "map")
+                                    throw InputError(fmt::format(
+                                        "--view: expected perspective or map, found '{}'", t->view));
+                                if (t->colour != "grey" && t->colour != "ramp")
+                                    throw InputError(
+                                        fmt::format("--colour: expected grey or ramp, found '{}'", t->colour));
+                                const auto sky = parseSkyKind(t->sky);
+                                if (!sky)
+                                    throw InputError(fmt::format(
+                                        "--sky: expected physical, gradient, flat or none, found '{}'", t->sky));
+                                r.sky = *sky;
+                                r.camera = parseCameraOption(t->camera);
+                                r.mapView = t->view == "map";
+                                r.castShadows = !t->noShadows;
+                                r.colourRamp = t->colour == "ramp";
+                                const ConsoleListener console(t->quiet);
+                                renderDem(r, console.listener());
+                            });
+                        }});
+}
+
+}  // namespace terracast::cli

@@ -1,0 +1,47 @@
+#include "loaders/output_paths.h"
+
+#include "loaders/image_io.h"
+#include "tracer/core/errors.h"
+#include "tracer/core/text.h"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+
+namespace terracast {
+
+namespace fs = std::filesystem;
+
+void checkNotInput(const std::string& output, const std::string& input, const char* what) {
+    std::error_code ec;
+    if (fs::exists(output, ec) && fs::exists(input, ec) && fs::equivalent(output, input, ec))
+        throw InputError(fmt::format("{}: {} is the input DEM; refusing to overwrite it", output, what));
+}
+
+void checkOutputFolder(const std::string& path) {
+    std::error_code ec;
+    const auto dir = fs::path(path).parent_path();
+    if (!dir.empty() && !fs::is_directory(dir, ec))
+        throw InputError(fmt::format("{}: output folder '{}' does not exist", path, dir.string()));
+}
+
+void checkOutputPath(const std::string& output, const std::string& input, std::initializer_list<const char*> allowed) {
+    checkNotInput(output, input, "output path");
+    const std::string ext = lowerExtension(output);
+    bool ok = false;
+    std::string expected;
+    for (const char* a : allowed) {
+        ok = ok || ext == a;
+        expected += (expected.empty() ? "" : " or ") + std::string(a);
+    }
+    if (!ok) throw InputError(fmt::format("{}: unsupported output format '{}' (expected {})", output, ext, expected));
+    checkOutputFolder(output);
+    checkCanWrite(output);
+}
+
+void checkReportPath(const std::string& path, const std::string& input) {
+    checkOutputFolder(path);
+    checkNotInput(path, input, "--json");
+}
+
+}  // namespace terracast

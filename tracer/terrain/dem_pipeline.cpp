@@ -1,0 +1,216 @@
+#include "tracer/terrain/dem_pipeline.h"
+
+#include "loaders/image_io.h"
+#include "loaders/output_paths.h"
+#include "loaders/raster_writer.h"
+#include "loaders/scene_assets.h"
+#include "tracer/core/errors.h"
+#include "tracer/core/resources.h"
+#include "tracer/core/text.h"
+#include "tracer/terrain/maps.h"
+#include "tracer/terrain/memory_model.h"
+#include "tracer/terrain/surface.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace terracast {
+
+LoadedDem loadDemSource(const DemSource& source, const RunListener& listener) {
+    DemLoadOptions lo;
+    lo.maxBytes = source.maxMemoryBytes;
+    lo.imageCellSizeM = source.imageCellSizeM;
+    lo.imageHeightScale = source.imageHeightScale;
+    LoadedDem dem = loadDem(source.path, lo);
+    for (const auto& w : dem.warnings) listener.warn(w);
+    return dem;
+}
+
+std::string demInfoReport(const DemSource& source, const RunListener& listener) {
+    const LoadedDem dem = loadDemSource(source, listener);
+    const HeightGrid& g = dem.grid;
+    const double total = double(g.width()) * double(g.height());
+    std::string out;
+    out += fmt::format("file:        {}\n", dem.path);
+    out += fmt::format("driver:      {}\n", dem.driver);
+    out += fmt::format("size:        {} x {} vertices ({} x {} cells)\n", g.width(), g.height(), g.cellsX(), g.cellsY());
+    if (dem.geo.georeferenced) {
+        out += fmt::format("crs:         {}{}\n", dem.geo.crsName.empty() ? "(unnamed)" : dem.geo.crsName,
+                           dem.geo.geographic
+                               ? fmt::format(" (geographic, converted at latitude {:.4f})", dem.geo.centreLatDeg)
+                               : "");
+        out += fmt::format("origin:      {:.3f}, {:.3f} (south-west sample, CRS units)\n", dem.geo.originX,
+                           dem.geo.originY);
+    } else {
+        out += "crs:         none (plain height map)\n";
+    }
+    out += fmt::format("cell size:   {:.3f} x {:.3f} m\n", g.cellSizeXM(), g.cellSizeYM());
+    out += fmt::format("extent:      {:.1f} x {:.1f} m\n", g.extentXM(), g.extentYM());
+    out += fmt::format("heights:     {:.2f} .. {:.2f} m\n", g.minHeightM(), g.maxHeightM());
+    out += fmt::format("nodata:      {:.2f}% of vertices ({} of {}), {} valid cells\n",
+                       100.0 * double(g.nodataVertexCount()) / total, g.nodataVertexCount(), int64_t(total),
+                       g.validCellCount());
+    out += fmt::format("memory:      {} for the grid; about {} to render at 1280x720\n",
+                       humanBytes(double(g.memoryBytes())),
+                       humanBytes(double(g.memoryBytes()) + 1280.0 * 720.0 * kFilmBytesPerPixel));
+    return out;
+}
+
+void checkViewValues(double exaggeration, double sunElevationDeg) {
+    if (!(exaggeration > 0.0) || !std::isfinite(exaggeration))
+        throw InputError(fmt::format("--exaggeration: expected a positive number, found {}", exaggeration));
+    if (!(sunElevationDeg >= -90.0 && sunElevationDeg <= 90.0))
+        throw InputError(fmt::format("--sun: elevation must lie in [-90, 90] degrees, found {}", sunElevationDeg));
+}
+
+TerrainRenderSettings makeView(HeightGrid& grid, int width, int height, double sunAzimuthDeg, double sunElevationDeg,
+                               double exaggeration, const std::optional<PinholeCamera>& camera, int threads) {
+    if (exaggeration != 1.0) {
+        const float k = float(exaggeration);
+        const double top = std::max(std::abs(double(grid.minHeightM())), std::abs(double(grid.maxHeightM())));
+        if (!(k > 0.0f) || !std::isfinite(double(k) * top) || double(k) * top > 1e12)
+            throw InputError(fmt::format("--exaggeration: {} makes heights of up to {:.0f} m unusable (expected a "
+                                         "factor that keeps them below 1e12 m)",
+                                         exaggeration, top));
+        grid.scaleHeights(k);
+    }
+    TerrainRenderSettings s;
+    s.width = width;
+    s.height = height;
+    s.threads = threads;
+    s.sun.azimuthDeg = sunAzimuthDeg;
+    s.sun.elevationDeg = sunElevationDeg;
+    s.camera = camera ? *camera : autoCamera(grid, double(width) / double(height));
+    return s;
+}
+
+namespace {
+
+// With a sun time, the sun's azimuth and (apparent) elevation at that instant over the DEM's centre.
+void applySunTime(const DemRenderOptions& o, const LoadedDem& dem, double& azimuthDeg, double& elevationDeg,
+                  const RunListener& listener) {
+    if (!o.sunTime) return;
+    listener.tell(placeSunOverGrid(*o.sunTime, dem.geo, dem.grid.width(), dem.grid.height(),
+                                   o.dem.path + ": --sun-time", azimuthDeg, elevationDeg));
+}
+
+void checkSkySamples(int skySamples) {
+    if (skySamples < -1 || skySamples > 4096)
+        throw InputError(fmt::format("--sky-samples: expected 0..4096, found {}", skySamples));
+}
+
+// `render --view map`: the top-down shaded relief, as a GeoTIFF on the DEM's georeference or a PNG.
+void renderMap(const DemRenderOptions& o, const RunListener& listener) {
+    checkOutputPath(o.output, o.dem.path, {".tif", ".tiff", ".png"});
+    checkViewValues(o.exaggeration, o.sunElevationDeg);
+    if (!(o.scale > 0.0 && o.scale <= 16.0)) throw InputError(fmt::format("--scale: expected (0, 16], found {}", o.scale));
+    if (!(o.hillshadeBlend >= 0.0 && o.hillshadeBlend <= 1.0))
+        throw InputError(fmt::format("--hillshade-blend: expected 0..1, found {}", o.hillshadeBlend));
+    checkSkySamples(o.skySamples);
+    LoadedDem dem = loadDemSource(o.dem, listener);
+    double sunAzimuthDeg = o.sunAzimuthDeg, sunElevationDeg = o.sunElevationDeg;
+    applySunTime(o, dem, sunAzimuthDeg, sunElevationDeg, listener);
+    TerrainRenderSettings view =
+        makeView(dem.grid, 16, 16, sunAzimuthDeg, sunElevationDeg, o.exaggeration, std::nullopt, o.threads);
+    MapViewSettings m;
+    m.scale = o.scale;
+    m.sun = view.sun;
+    m.castShadows = o.castShadows;
+    m.skySamples = o.skySamples < 0 ? 16 : o.skySamples;
+    m.colourRamp = o.colourRamp;
+    m.hillshadeBlend = o.hillshadeBlend;
+    m.method = requireDirectMethod(o.method, "--view map");
+    m.threads = o.threads;
+    const auto start = std::chrono::steady_clock::now();
+    const Film film = renderMapView(dem.grid, m);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (lowerExtension(o.output) == ".png") {
+        writeImage(o.output, RgbImage{film.width, film.height, film.rgb});
+    } else {
+        // 8-bit sRGB in three bands, rows south first as the writer expects; pixel centres on the DEM's CRS.
+        GridRaster out;
+        out.width = film.width;
+        out.height = film.height;
+        out.bands = 3;
+        out.values.resize(size_t(film.width) * size_t(film.height) * 3);
+        for (int y = 0; y < film.height; ++y)
+            for (int x = 0; x < film.width; ++x) {
+                const glm::vec3 c = film.get(x, film.height - 1 - y);
+                for (int b = 0; b < 3; ++b)
+                    out.values[(size_t(y) * size_t(film.width) + size_t(x)) * 3 + size_t(b)] = 255.0f * srgbFromLinear(c[b]);
+            }
+        const double pxX = dem.grid.extentXM() / film.width / dem.grid.cellSizeXM() * sourcePixelSizeX(dem.geo);
+        const double pxY = dem.grid.extentYM() / film.height / dem.grid.cellSizeYM() * sourcePixelSizeY(dem.geo);
+        writeGeoTiff(o.output, out, RasterType::Byte, dem.geo, dem.geo.originX + 0.5 * pxX, dem.geo.originY + 0.5 * pxY,
+                     pxX, pxY);
+    }
+    listener.tell(fmt::format("map {} ({}x{}, {}) in {:.2f} s; shadows {}, {} sky rays per pixel", o.output, film.width,
+                              film.height, cellMethodName(m.method), seconds, m.castShadows ? "on" : "off",
+                              m.skySamples));
+}
+
+// `render` without --view map.
+RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListener& listener) {
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
+    checkOutputPath(o.output, o.dem.path);
+    checkViewValues(o.exaggeration, o.sunElevationDeg);
+    checkSkySamples(o.skySamples);
+    if (!(o.haze >= 0.0 && o.haze <= 1000.0))
+        throw InputError(fmt::format("--haze: expected a number in 0..1000, found {}", o.haze));
+    LoadedDem dem = loadDemSource(o.dem, listener);
+    HeightGrid& grid = dem.grid;
+    double sunAzimuthDeg = o.sunAzimuthDeg, sunElevationDeg = o.sunElevationDeg;
+    applySunTime(o, dem, sunAzimuthDeg, sunElevationDeg, listener);
+    TerrainRenderSettings s = makeView(grid, o.width, o.height, sunAzimuthDeg, sunElevationDeg, o.exaggeration,
+                                       o.camera, o.threads);
+    s.sky.kind = o.sky;
+    s.sky.haze = o.haze;
+    s.sky.samples = o.skySamples < 0 ? 4 : o.skySamples;
+    s.seed = o.seed;
+    s.progress = listener.progress;
+
+    checkMemory(o.dem.path, o.dem.maxMemoryBytes, grid,
+                double(o.width) * o.height * kFilmBytesPerPixel + embreeBytesEstimate(o.method, grid),
+                fmt::format("rendering {}x{} with {}", o.width, o.height, surfaceMethodName(o.method)));
+    const auto loaded = Clock::now();
+    const TerrainSurface surface(grid, o.method, o.threads);
+    const auto built = Clock::now();
+    RenderStats stats;
+    Film film = renderTerrain(grid, surface, s, &stats);
+    const auto rendered = Clock::now();
+    writeImage(o.output, RgbImage{film.width, film.height, std::move(film.rgb)});
+    const auto written = Clock::now();
+    const auto seconds = [](Clock::time_point a, Clock::time_point b) {
+        return std::chrono::duration<double>(b - a).count();
+    };
+    RenderPhaseSeconds phases;
+    phases.load = seconds(start, loaded);
+    phases.build = seconds(loaded, built);
+    phases.render = seconds(built, rendered);
+    phases.write = seconds(rendered, written);
+    phases.total = seconds(start, written);
+    const int64_t rays = stats.primaryRays + stats.shadowRays + stats.skyVisibilityRays;
+    listener.tell(fmt::format("rendered {} ({}x{}, {}, {} sky) in {:.2f} s: {} primary + {} shadow + {} "
+                              "sky-visibility rays, {:.2f} Mrays/s, peak memory {}",
+                              o.output, o.width, o.height, surfaceMethodName(o.method), skyKindName(o.sky),
+                              stats.seconds, stats.primaryRays, stats.shadowRays, stats.skyVisibilityRays,
+                              stats.seconds > 0 ? double(rays) / stats.seconds * 1e-6 : 0.0,
+                              humanBytes(peakResidentBytes())));
+    return phases;
+}
+
+}  // namespace
+
+RenderPhaseSeconds renderDem(const DemRenderOptions& options, const RunListener& listener) {
+    if (options.mapView) {
+        renderMap(options, listener);
+        return {};
+    }
+    return renderPerspective(options, listener);
+}
+
+}  // namespace terracast

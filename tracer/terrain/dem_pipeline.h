@@ -1,0 +1,81 @@
+// From a DEM file to a picture: load the grid (with its warnings), check the job against the memory limit,
+// set the view (exaggeration, sun, camera), build the surface, render and write the picture atomically. The
+// perspective view and the top-down map view (`render --view map`) both start here, and so does `info`.
+#pragma once
+
+#include "loaders/dem_loader.h"
+#include "tracer/core/listener.h"
+#include "tracer/core/surface_method.h"
+#include "tracer/sky/calendar.h"
+#include "tracer/sky/sky_description.h"
+#include "tracer/terrain/camera.h"
+#include "tracer/terrain/terrain_renderer.h"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace terracast {
+
+// Where a DEM comes from and what the job reading it may hold.
+struct DemSource {
+    std::string path;               // DEM file
+    double imageCellSizeM = 1.0;    // PNG height maps: metres between samples
+    double imageHeightScale = 1.0;  // PNG height maps: metres per stored unit
+    double maxMemoryBytes = 0.0;    // refuse jobs estimated to need more; 0 = 80% of physical memory
+};
+
+// Loads the DEM, passing its warnings (assumed units, large geographic extents) to the listener.
+LoadedDem loadDemSource(const DemSource& source, const RunListener& listener);
+
+// `info`: size, CRS, cell size, heights, nodata and memory, as lines of text.
+std::string demInfoReport(const DemSource& source, const RunListener& listener);
+
+// Refuses (InputError) an exaggeration that is not a positive number or a sun elevation outside [-90, 90].
+void checkViewValues(double exaggeration, double sunElevationDeg);
+
+// Scales the loaded grid by `exaggeration` and makes the view: size, sun, and the camera given or, when none
+// is, the automatic view of the whole grid.
+TerrainRenderSettings makeView(HeightGrid& grid, int width, int height, double sunAzimuthDeg, double sunElevationDeg,
+                               double exaggeration, const std::optional<PinholeCamera>& camera, int threads);
+
+// Everything `render` takes.
+struct DemRenderOptions {
+    DemSource dem;
+    std::string output;                        // .png (8-bit sRGB) or .exr; map view: .tif (GeoTIFF) or .png
+    int width = 1280;                          // pixels
+    int height = 720;                          // pixels
+    double sunAzimuthDeg = 315.0;              // clockwise from north
+    double sunElevationDeg = 35.0;             // above the horizon
+    std::optional<UtcInstant> sunTime;         // puts the sun where it stands then over the DEM's centre
+    double exaggeration = 1.0;                 // vertical scale factor
+    std::optional<PinholeCamera> camera;       // none = the automatic view
+    SurfaceMethod method = SurfaceMethod::Bilinear;  // cell intersector, or Embree
+    int threads = 0;                           // 0 = all cores
+    bool mapView = false;                      // top-down orthographic map on the DEM's grid (--view map)
+    double scale = 1.0;                        // map view: output pixels per DEM cell along each axis
+    bool castShadows = true;                   // map view: ray-traced cast shadows
+    int skySamples = -1;                       // hemisphere rays per hit (perspective) or pixel (map) for sky
+                                               // visibility; -1 = default, 4 in perspective, 16 in the map view
+    SkyKind sky = SkyKind::Physical;           // perspective: the sky model
+    double haze = 1.0;                         // physical sky: multiplies Mie (aerosol) scattering
+    uint64_t seed = 0;                         // sky-visibility directions
+    bool colourRamp = false;                   // map view: elevation colours instead of grey
+    double hillshadeBlend = 0.0;               // map view: weight of a plain hillshade, 0..1
+};
+
+// Wall-clock seconds of the phases of one perspective render.
+struct RenderPhaseSeconds {
+    double load = 0.0;    // reading the DEM (and, for the direct tracer, making its pyramid) and setting the view
+    double build = 0.0;   // the surface: nothing more for the direct tracer, Embree's buffers and BVH
+    double render = 0.0;  // tracing and shading the picture
+    double write = 0.0;   // encoding and writing the picture
+    double total = 0.0;   // from the first check of the options to the picture on disk
+};
+
+// `render`: checks, loads, builds, renders and writes; the summary line goes to the listener's note. Throws
+// InputError for bad input, Cancelled when interrupted. Returns the phases of a perspective render (all zero
+// for the map view).
+RenderPhaseSeconds renderDem(const DemRenderOptions& options, const RunListener& listener);
+
+}  // namespace terracast

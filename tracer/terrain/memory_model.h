@@ -1,0 +1,24 @@
+// The memory guard's model of a terrain job: what the grid, the film and Embree's scene will hold, checked
+// against the limit before anything large is allocated.
+#pragma once
+
+#include "heightfield/height_grid.h"
+#include "tracer/core/surface_method.h"
+
+#include <string>
+
+namespace terracast {
+
+// Bytes per pixel of a film: linear RGB in float.
+inline constexpr double kFilmBytesPerPixel = 12.0;
+
+// Embree's bytes for `grid` with `method`, as measured on this project's DEMs (triangle mesh peak, grid
+// geometry); 0 for the direct methods, which add nothing to the grid.
+double embreeBytesEstimate(SurfaceMethod method, const HeightGrid& grid);
+
+// Refuses (InputError naming `path`) a job whose estimate, the grid already loaded plus `extraBytes` still to
+// allocate, exceeds `maxMemoryBytes` (0 = the default limit).
+void checkMemory(const std::string& path, double maxMemoryBytes, const HeightGrid& grid, double extraBytes,
+                 const std::string& what);
+
+}  // namespace terracast
