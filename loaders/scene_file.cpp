@@ -5,6 +5,7 @@
 // key or value, what was expected and what was found. docs/scene-format.md is the reference for the format.
 #include "loaders/scene_file.h"
 
+#include "loaders/toml_reader.h"
 #include "tracer/core/errors.h"
 #include "tracer/sky/calendar.h"
 #include "tracer/core/surface_method.h"
@@ -34,442 +35,11 @@
 namespace terracast {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kFloatMax = std::numeric_limits<float>::max();
-constexpr size_t kQuotedCharsMax = 60;     // user text quoted in a message is cut after this many bytes
-constexpr size_t kSuggestedKeyMax = 64;    // longer words get no near-miss suggestion (edit distance is O(n m))
+using namespace toml_reader;
 // A polygon is planar when no vertex lies farther than this fraction of its bounding box's largest side from
 // its plane, and degenerate when twice its area is below this fraction of that side squared.
 constexpr double kPlanarTolerance = 1e-6;
 constexpr double kDegenerateArea = 1e-10;
-
-// ---- Text in messages ----
-
-// `text` on one line: control characters escaped, and cut at a UTF-8 boundary after `maxBytes` bytes.
-std::string printable(std::string_view text, size_t maxBytes = kQuotedCharsMax) {
-    std::string out;
-    for (const char ch : text) {
-        const auto c = static_cast<unsigned char>(ch);
-        if (out.size() >= maxBytes && (c & 0xC0) != 0x80) {
-            out += "...";
-            break;
-        }
-        if (c == '\n') out += "\\n";
-        else if (c == '\r') out += "\\r";
-        else if (c == '\t') out += "\\t";
-        else if (c < 0x20 || c == 0x7F) out += fmt::format("\\x{:02x}", c);
-        else out += ch;
-    }
-    return out;
-}
-
-std::string quoteKey(std::string_view key) { return fmt::format("'{}'", printable(key)); }
-
-std::string quoteString(std::string_view text) {
-    std::string escaped;
-    for (const char c : text) {
-        if (c == '"' || c == '\\') escaped += '\\';
-        escaped += c;
-    }
-    return fmt::format("\"{}\"", printable(escaped));
-}
-
-std::string quoteAll(std::span<const std::string> words) {
-    std::string out;
-    for (size_t i = 0; i < words.size(); ++i) out += (i == 0 ? "" : ", ") + quoteString(words[i]);
-    return out;
-}
-
-// What a TOML node is, with its article, for "found ..." phrases.
-std::string describeType(const toml::node& node) {
-    switch (node.type()) {
-        case toml::node_type::string: return "a string";
-        case toml::node_type::integer: return "an integer";
-        case toml::node_type::floating_point: return "a floating-point number";
-        case toml::node_type::boolean: return "a boolean";
-        case toml::node_type::array: return node.is_array_of_tables() ? "an array of tables" : "an array";
-        case toml::node_type::table: return "a table";
-        case toml::node_type::date: return "a date";
-        case toml::node_type::time: return "a time";
-        case toml::node_type::date_time: return "a date-time";
-        case toml::node_type::none: break;
-    }
-    return "nothing";
-}
-
-// ---- Near misses ----
-
-// Optimal string alignment distance (Levenshtein's edits plus adjacent transpositions, after Damerau 1964),
-// ignoring ASCII case.
-size_t editDistance(std::string_view a, std::string_view b) {
-    const auto lower = [](char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); };
-    std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
-    for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
-    for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
-    for (size_t i = 1; i <= a.size(); ++i) {
-        for (size_t j = 1; j <= b.size(); ++j) {
-            const size_t cost = lower(a[i - 1]) == lower(b[j - 1]) ? 0 : 1;
-            d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
-            if (i > 1 && j > 1 && lower(a[i - 1]) == lower(b[j - 2]) && lower(a[i - 2]) == lower(b[j - 1]))
-                d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
-        }
-    }
-    return d[a.size()][b.size()];
-}
-
-// The candidate closest to `word` if it is close enough to be a slip of the keyboard: one edit for words of
-// up to four letters, two up to eight, three beyond. Ties go to the earlier candidate.
-std::optional<std::string> nearMiss(std::string_view word, std::span<const std::string> candidates) {
-    if (word.size() > kSuggestedKeyMax) return std::nullopt;
-    const size_t allowed = word.size() <= 4 ? 1 : word.size() <= 8 ? 2 : 3;
-    std::optional<std::string> best;
-    size_t bestDistance = allowed + 1;
-    for (const auto& candidate : candidates) {
-        const size_t distance = editDistance(word, candidate);
-        if (distance < bestDistance) {
-            bestDistance = distance;
-            best = candidate;
-        }
-    }
-    return best;
-}
-
-// " (did you mean 'radius'?)" when a candidate is close to `word`, else "".
-std::string didYouMean(std::string_view word, std::span<const std::string> candidates, bool asKey) {
-    const auto best = nearMiss(word, candidates);
-    if (!best) return "";
-    return fmt::format(" (did you mean {}?)", asKey ? quoteKey(*best) : quoteString(*best));
-}
-
-// ---- Value ranges ----
-
-// An interval of accepted numbers; infinite ends are open and not written in messages.
-struct Range {
-    double lo = -kInf;
-    double hi = kInf;
-    bool loClosed = true;
-    bool hiClosed = true;
-
-    bool contains(double v) const {
-        return (loClosed ? v >= lo : v > lo) && (hiClosed ? v <= hi : v < hi);
-    }
-    // " > 0", " >= 0", " in (0, 180)", or "" for every number.
-    std::string describe() const {
-        if (lo == -kInf && hi == kInf) return "";
-        if (hi == kInf) return fmt::format(" {} {}", loClosed ? ">=" : ">", lo);
-        if (lo == -kInf) return fmt::format(" {} {}", hiClosed ? "<=" : "<", hi);
-        return fmt::format(" in {}{}, {}{}", loClosed ? '[' : '(', lo, hi, hiClosed ? ']' : ')');
-    }
-};
-
-constexpr Range kAnyNumber{};
-constexpr Range kNonNegative{0.0, kInf, true, true};
-constexpr Range kPositive{0.0, kInf, false, true};
-
-// ---- Locations and errors ----
-
-SourceLocation locationOf(const toml::source_region& region, SourceLocation fallback) {
-    if (region.begin.line == 0) return fallback;
-    const auto clamp = [](toml::source_index i) { return static_cast<int>(std::min<toml::source_index>(i, INT_MAX)); };
-    return {clamp(region.begin.line), clamp(region.begin.column)};
-}
-
-// The scene file being parsed: its name for messages and the folder its relative paths start from.
-class SceneContext {
-public:
-    SceneContext(std::string path, std::string baseDir) : path_(std::move(path)), baseDir_(std::move(baseDir)) {}
-
-    [[noreturn]] void fail(SourceLocation where, const std::string& message) const {
-        throw InputError(fmt::format("{}:{}:{}: {}", path_, where.line, where.column, message));
-    }
-
-    // A path from the scene, made relative to the scene's folder unless it is absolute.
-    std::string resolve(const std::string& path) const {
-        if (path.starts_with("/vsi")) return path;  // GDAL virtual file systems keep their exact spelling
-        const std::filesystem::path p(path);
-        if (p.is_absolute() || baseDir_.empty()) return p.lexically_normal().string();
-        return (std::filesystem::path(baseDir_) / p).lexically_normal().string();
-    }
-
-private:
-    std::string path_;
-    std::string baseDir_;
-};
-
-// A keyword accepted by a key, and the value it stands for.
-template <typename E>
-struct Choice {
-    std::string_view name;
-    E value;
-};
-
-template <typename E>
-std::vector<std::string> choiceNames(std::span<const Choice<E>> choices) {
-    std::vector<std::string> names;
-    for (const auto& c : choices) names.emplace_back(c.name);
-    return names;
-}
-
-template <typename E>
-std::string_view choiceName(std::span<const Choice<E>> choices, E value) {
-    for (const auto& c : choices)
-        if (c.value == value) return c.name;
-    return "";
-}
-
-// One table of the scene file, with typed, range-checked access to its keys. Every reader returns nothing
-// when the key is absent and throws InputError at the value's location when it is malformed.
-class TableReader {
-public:
-    TableReader(const SceneContext& scene, const toml::table& table, std::string label, SourceLocation fallback)
-        : scene_(scene), table_(table), label_(std::move(label)), where_(locationOf(table.source(), fallback)) {}
-
-    const std::string& label() const { return label_; }
-    SourceLocation where() const { return where_; }
-    bool has(std::string_view key) const { return table_.contains(key); }
-    const toml::node* node(std::string_view key) const { return table_.get(key); }
-
-    [[noreturn]] void fail(SourceLocation where, const std::string& message) const { scene_.fail(where, message); }
-
-    SourceLocation keyWhere(std::string_view key) const {
-        for (auto&& [k, v] : table_)
-            if (k.str() == key) return locationOf(k.source(), locationOf(v.source(), where_));
-        return where_;
-    }
-    SourceLocation valueWhere(std::string_view key) const {
-        const toml::node* n = table_.get(key);
-        return n ? whereOf(*n) : where_;
-    }
-    SourceLocation whereOf(const toml::node& n) const { return locationOf(n.source(), where_); }
-
-    // The table's keys in the order they were written.
-    std::vector<std::pair<std::string, SourceLocation>> keysInOrder() const {
-        std::vector<std::pair<std::string, SourceLocation>> keys;
-        for (auto&& [k, v] : table_) keys.emplace_back(std::string(k.str()), locationOf(k.source(), whereOf(v)));
-        std::stable_sort(keys.begin(), keys.end(), [](const auto& a, const auto& b) {
-            return std::pair(a.second.line, a.second.column) < std::pair(b.second.line, b.second.column);
-        });
-        return keys;
-    }
-
-    // Refuses the table, at its header, when it lacks `key`.
-    void require(std::string_view key, const std::string& subject) const {
-        if (!has(key)) fail(where_, fmt::format("missing required key {} {}", quoteKey(key), subject));
-    }
-
-    // A number in `range`; TOML integers are accepted where numbers are expected.
-    double numberFrom(const toml::node& n, const std::string& name, Range range) const {
-        double value = 0.0;
-        if (const auto* i = n.as_integer()) value = static_cast<double>(i->get());
-        else if (const auto* f = n.as_floating_point()) value = f->get();
-        else fail(whereOf(n), fmt::format("{}: expected a number{}, found {}", name, range.describe(), describeType(n)));
-        if (!std::isfinite(value))
-            fail(whereOf(n), fmt::format("{}: expected a finite number{}, found {}", name, range.describe(), value));
-        if (!range.contains(value))
-            fail(whereOf(n), fmt::format("{}: expected a number{}, found {}", name, range.describe(), value));
-        return value;
-    }
-
-    std::optional<double> number(std::string_view key, Range range = kAnyNumber) const {
-        const toml::node* n = node(key);
-        if (!n) return std::nullopt;
-        return numberFrom(*n, std::string(key), range);
-    }
-
-    // A number stored in single precision: also refuses magnitudes a float cannot hold.
-    std::optional<float> singleNumber(std::string_view key, Range range = kAnyNumber) const {
-        const toml::node* n = node(key);
-        if (!n) return std::nullopt;
-        return toSingle(*n, std::string(key), numberFrom(*n, std::string(key), range));
-    }
-
-    std::optional<int64_t> integer(std::string_view key, int64_t lo, int64_t hi) const {
-        const toml::node* n = node(key);
-        if (!n) return std::nullopt;
-        const std::string expected = hi == std::numeric_limits<int64_t>::max()
-                                         ? fmt::format("an integer >= {}", lo)
-                                         : fmt::format("an integer in {}..{}", lo, hi);
-        const auto* i = n->as_integer();
-        if (!i) fail(whereOf(*n), fmt::format("{}: expected {}, found {}", key, expected, describeType(*n)));
-        if (i->get() < lo || i->get() > hi)
-            fail(whereOf(*n), fmt::format("{}: expected {}, found {}", key, expected, i->get()));
-        return i->get();
-    }
-
-    std::optional<bool> boolean(std::string_view key) const {
-        const toml::node* n = node(key);
-        if (!n) return std::nullopt;
-        const auto* b = n->as_boolean();
-        if (!b) fail(whereOf(*n), fmt::format("{}: expected true or false, found {}", key, describeType(*n)));
-        return b->get();
-    }
-
-    std::optional<std::string> string(std::string_view key) const {
-        const toml::node* n = node(key);
-        if (!n) return std::nullopt;
-        const auto* s = n->as_string();
-        if (!s) fail(whereOf(*n), fmt::format("{}: expected a string, found {}", key, describeType(*n)));
-        return s->get();
-    }
-
-    std::optional<std::string> nonEmptyString(std::string_view key) const {
-        auto s = string(key);
-        if (s && s->empty()) fail(valueWhere(key), fmt::format("{}: expected a non-empty string, found \"\"", key));
-        return s;
-    }
-
-    // A file path: not empty, and without NUL characters (the system would see only the part before one).
-    std::optional<std::string> path(std::string_view key) const {
-        auto s = nonEmptyString(key);
-        if (s && s->find('\0') != std::string::npos)
-            fail(valueWhere(key), fmt::format("{}: expected a file path, found a string with a NUL character", key));
-        return s;
-    }
-
-    // One of a fixed set of keywords, with a near-miss suggestion when the value is not among them.
-    template <typename E>
-    std::optional<E> choice(std::string_view key, std::span<const Choice<E>> choices) const {
-        const auto text = string(key);
-        if (!text) return std::nullopt;
-        for (const auto& c : choices)
-            if (c.name == *text) return c.value;
-        const auto names = choiceNames(choices);
-        fail(valueWhere(key), fmt::format("{}: expected one of {}, found {}{}", key, quoteAll(names),
-                                          quoteString(*text), didYouMean(*text, names, false)));
-    }
-
-    // Three numbers [x, y, z] in `range` each.
-    std::optional<glm::dvec3> vector3(std::string_view key, Range range = kAnyNumber,
-                                      std::string_view form = "[x, y, z]") const {
-        const toml::node* n = node(key);
-        if (!n) return std::nullopt;
-        return vector3From(*n, std::string(key), range, form);
-    }
-
-    // A direction: three numbers, not all zero.
-    std::optional<glm::dvec3> direction(std::string_view key) const {
-        const auto d = vector3(key);
-        if (d && *d == glm::dvec3(0.0))
-            fail(valueWhere(key), fmt::format("{}: expected a non-zero direction, found [0, 0, 0]", key));
-        return d;
-    }
-
-    // An RGB triple [r, g, b] in `range`, or with `scalarAllowed` one number for all three channels.
-    std::optional<glm::vec3> rgb(std::string_view key, Range range, bool scalarAllowed) const {
-        const toml::node* n = node(key);
-        if (!n) return std::nullopt;
-        const std::string name(key);
-        if (scalarAllowed && (n->is_integer() || n->is_floating_point()))
-            return glm::vec3(toSingle(*n, name, numberFrom(*n, name, range)));
-        if (scalarAllowed && !n->is_array())
-            fail(whereOf(*n), fmt::format("{}: expected a number or an array of 3 numbers [r, g, b], found {}", key,
-                                          describeType(*n)));
-        const glm::dvec3 v = vector3From(*n, name, range, "[r, g, b]");
-        glm::vec3 out;
-        for (int c = 0; c < 3; ++c)
-            out[c] = toSingle(*n->as_array()->get(static_cast<size_t>(c)), fmt::format("{}[{}]", key, c), v[c]);
-        return out;
-    }
-
-    // A list of points [[x, y, z], ...].
-    std::optional<std::vector<glm::dvec3>> points(std::string_view key) const {
-        const toml::node* n = node(key);
-        if (!n) return std::nullopt;
-        const auto* array = n->as_array();
-        if (!array)
-            fail(whereOf(*n), fmt::format("{}: expected an array of points [[x, y, z], ...], found {}", key,
-                                          describeType(*n)));
-        std::vector<glm::dvec3> result;
-        for (size_t i = 0; i < array->size(); ++i)
-            result.push_back(vector3From(*array->get(i), fmt::format("{}[{}]", key, i), kAnyNumber, "[x, y, z]"));
-        return result;
-    }
-
-    // Two numbers [a, b] with a <= b.
-    std::optional<std::array<double, 2>> orderedPair(std::string_view key, std::string_view form) const {
-        const toml::node* n = node(key);
-        if (!n) return std::nullopt;
-        const auto* array = n->as_array();
-        if (!array || array->size() != 2)
-            fail(whereOf(*n), fmt::format("{}: expected an array of 2 numbers {}, found {}", key, form,
-                                          foundArray(*n)));
-        const double a = numberFrom(*array->get(0), fmt::format("{}[0]", key), kAnyNumber);
-        const double b = numberFrom(*array->get(1), fmt::format("{}[1]", key), kAnyNumber);
-        if (a > b) fail(whereOf(*n), fmt::format("{}: expected {} in increasing order, found [{}, {}]", key, form, a, b));
-        return std::array<double, 2>{a, b};
-    }
-
-private:
-    // "an array of 2 values" for arrays, the type otherwise.
-    static std::string foundArray(const toml::node& n) {
-        const auto* array = n.as_array();
-        if (!array) return describeType(n);
-        return fmt::format("an array of {} value{}", array->size(), array->size() == 1 ? "" : "s");
-    }
-
-    glm::dvec3 vector3From(const toml::node& n, const std::string& name, Range range, std::string_view form) const {
-        const auto* array = n.as_array();
-        if (!array || array->size() != 3)
-            fail(whereOf(n), fmt::format("{}: expected an array of 3 numbers {}, found {}", name, form, foundArray(n)));
-        glm::dvec3 v;
-        for (int c = 0; c < 3; ++c) v[c] = numberFrom(*array->get(static_cast<size_t>(c)), fmt::format("{}[{}]", name, c), range);
-        return v;
-    }
-
-    float toSingle(const toml::node& n, const std::string& name, double value) const {
-        if (std::abs(value) > kFloatMax)
-            fail(whereOf(n), fmt::format("{}: expected a number of magnitude at most {:.3g}, found {}", name,
-                                         kFloatMax, value));
-        return static_cast<float>(value);
-    }
-
-    const SceneContext& scene_;
-    const toml::table& table_;
-    std::string label_;
-    SourceLocation where_;
-};
-
-// ---- Schemas ----
-
-// A key a table takes and the types (or sky models) that take it; none listed: every type.
-struct KeyRule {
-    std::string_view key;
-    std::vector<std::string_view> types;
-};
-
-// Refuses, in the order they were written, keys the table's type does not take: keys of another type name
-// the types that take them; other keys get a near-miss suggestion among the keys this type takes.
-void checkKeys(const TableReader& table, std::span<const KeyRule> rules, std::string_view type,
-               const std::string& subject) {
-    std::vector<std::string> taken;
-    for (const auto& rule : rules)
-        if (rule.types.empty() || std::find(rule.types.begin(), rule.types.end(), type) != rule.types.end())
-            taken.emplace_back(rule.key);
-    for (const auto& [key, where] : table.keysInOrder()) {
-        if (std::find(taken.begin(), taken.end(), key) != taken.end()) continue;
-        const auto rule = std::find_if(rules.begin(), rules.end(), [&k = key](const KeyRule& r) { return r.key == k; });
-        if (rule != rules.end()) {
-            const std::vector<std::string> owners(rule->types.begin(), rule->types.end());
-            table.fail(where, fmt::format("key {} does not apply to {} (only to {})", quoteKey(key), subject,
-                                          quoteAll(owners)));
-        }
-        table.fail(where, fmt::format("unknown key {} in {}{}", quoteKey(key), table.label(),
-                                      didYouMean(key, taken, true)));
-    }
-}
-
-// Before `type` is known: a key no type takes that is a near miss of the missing `required` key is reported
-// as the slip it probably is, rather than as a missing key.
-void refuseMisspeltKey(const TableReader& table, std::span<const KeyRule> rules, std::string_view required) {
-    const std::vector<std::string> wanted{std::string(required)};
-    for (const auto& [key, where] : table.keysInOrder()) {
-        const bool known =
-            std::any_of(rules.begin(), rules.end(), [&k = key](const KeyRule& r) { return r.key == k; });
-        if (!known && nearMiss(key, wanted))
-            table.fail(where, fmt::format("unknown key {} in {}{}", quoteKey(key), table.label(),
-                                          didYouMean(key, wanted, true)));
-    }
-}
 
 // ---- Camera ----
 
@@ -593,7 +163,7 @@ void parseDielectric(const TableReader& t, MaterialDescription& m) {
                                                 quoteKey(key)));
 }
 
-void parseTerrainColouring(const SceneContext& scene, const TableReader& t, MaterialDescription& m) {
+void parseTerrainColouring(const TomlFile& scene, const TableReader& t, MaterialDescription& m) {
     const auto colouring = t.choice<TerrainColouring>("terrain", kTerrainColourings);
     if (t.has("drape")) {
         if (colouring && *colouring != TerrainColouring::Drape)
@@ -611,7 +181,7 @@ void parseTerrainColouring(const SceneContext& scene, const TableReader& t, Mate
     }
 }
 
-MaterialDescription parseMaterial(const SceneContext& scene, const TableReader& t) {
+MaterialDescription parseMaterial(const TomlFile& scene, const TableReader& t) {
     checkKeys(t, kMaterialKeys, "", "");
     MaterialDescription m;
     m.where = t.where();
@@ -661,16 +231,8 @@ const std::vector<KeyRule> kObjectKeys{
     {"level", {"water"}},
 };
 
-// The choices of an enumeration that names its own values (surface methods, sample patterns, pixel filters):
-// the tracer's own lists, so the scene file and the tracer cannot drift apart. The names have static storage.
-template <typename E>
-std::vector<Choice<E>> namedChoices(std::span<const E> values, const char* (*name)(E)) {
-    std::vector<Choice<E>> choices;
-    for (const E v : values) choices.push_back({name(v), v});
-    return choices;
-}
 
-void parseHeightField(const SceneContext& scene, const TableReader& t, const std::string& subject,
+void parseHeightField(const TomlFile& scene, const TableReader& t, const std::string& subject,
                       ObjectDescription& o) {
     t.require("file", subject);
     o.filePath = scene.resolve(*t.path("file"));
@@ -758,7 +320,7 @@ void parseBox(const TableReader& t, ObjectDescription& o) {
 // The material names and where each was defined.
 using MaterialIndex = std::map<std::string, SourceLocation>;
 
-ObjectDescription parseObject(const SceneContext& scene, const TableReader& t, size_t index,
+ObjectDescription parseObject(const TomlFile& scene, const TableReader& t, size_t index,
                               const MaterialIndex& materials) {
     ObjectDescription o;
     o.where = t.where();
@@ -937,7 +499,7 @@ constexpr int64_t kMaxSamples = 65536;
 constexpr int64_t kMaxDepth = 64;
 constexpr int64_t kMaxThreads = 4096;
 
-RenderDescription parseRender(const SceneContext& scene, const TableReader& t) {
+RenderDescription parseRender(const TomlFile& scene, const TableReader& t) {
     checkKeys(t, kRenderKeys, "", "");
     RenderDescription r;
     r.where = t.where();
@@ -980,7 +542,7 @@ std::string sectionHeader(std::string_view name, SectionForm form) {
 }
 
 // Refuses top-level keys that are not one of the sections, or a section written in the wrong form.
-void checkSections(const SceneContext& scene, const toml::table& root) {
+void checkSections(const TomlFile& scene, const toml::table& root) {
     const TableReader top(scene, root, "the top level", SourceLocation{1, 1});
     std::vector<std::string> names;
     std::string headers;
@@ -1026,7 +588,7 @@ void checkSections(const SceneContext& scene, const toml::table& root) {
 
 // Calls `parse(reader, index)` for each table of an array-of-tables section.
 template <typename Parse>
-void forEachTable(const SceneContext& scene, const toml::table& root, std::string_view name, Parse&& parse) {
+void forEachTable(const TomlFile& scene, const toml::table& root, std::string_view name, Parse&& parse) {
     const auto* array = root.get_as<toml::array>(name);
     if (!array) return;
     const SourceLocation fallback = locationOf(array->source(), SourceLocation{1, 1});
@@ -1039,7 +601,7 @@ void forEachTable(const SceneContext& scene, const toml::table& root, std::strin
 }  // namespace
 
 SceneDescription parseSceneText(std::string_view text, const std::string& pathForMessages, const std::string& baseDir) {
-    const SceneContext scene(pathForMessages, baseDir);
+    const TomlFile scene(pathForMessages, baseDir);
     toml::table root;
     try {
         root = toml::parse(text, std::string_view(pathForMessages));

@@ -1,0 +1,130 @@
+#include "loaders/toml_reader.h"
+
+#include <cctype>
+
+namespace terracast::toml_reader {
+
+std::string printable(std::string_view text, size_t maxBytes) {
+    std::string out;
+    for (const char ch : text) {
+        const auto c = static_cast<unsigned char>(ch);
+        if (out.size() >= maxBytes && (c & 0xC0) != 0x80) {
+            out += "...";
+            break;
+        }
+        if (c == '\n') out += "\\n";
+        else if (c == '\r') out += "\\r";
+        else if (c == '\t') out += "\\t";
+        else if (c < 0x20 || c == 0x7F) out += fmt::format("\\x{:02x}", c);
+        else out += ch;
+    }
+    return out;
+}
+
+std::string quoteKey(std::string_view key) { return fmt::format("'{}'", printable(key)); }
+
+std::string quoteString(std::string_view text) {
+    std::string escaped;
+    for (const char c : text) {
+        if (c == '"' || c == '\\') escaped += '\\';
+        escaped += c;
+    }
+    return fmt::format("\"{}\"", printable(escaped));
+}
+
+std::string quoteAll(std::span<const std::string> words) {
+    std::string out;
+    for (size_t i = 0; i < words.size(); ++i) out += (i == 0 ? "" : ", ") + quoteString(words[i]);
+    return out;
+}
+
+std::string describeType(const toml::node& node) {
+    switch (node.type()) {
+        case toml::node_type::string: return "a string";
+        case toml::node_type::integer: return "an integer";
+        case toml::node_type::floating_point: return "a floating-point number";
+        case toml::node_type::boolean: return "a boolean";
+        case toml::node_type::array: return node.is_array_of_tables() ? "an array of tables" : "an array";
+        case toml::node_type::table: return "a table";
+        case toml::node_type::date: return "a date";
+        case toml::node_type::time: return "a time";
+        case toml::node_type::date_time: return "a date-time";
+        case toml::node_type::none: break;
+    }
+    return "nothing";
+}
+
+size_t editDistance(std::string_view a, std::string_view b) {
+    const auto lower = [](char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); };
+    std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
+    for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+    for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+        for (size_t j = 1; j <= b.size(); ++j) {
+            const size_t cost = lower(a[i - 1]) == lower(b[j - 1]) ? 0 : 1;
+            d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+            if (i > 1 && j > 1 && lower(a[i - 1]) == lower(b[j - 2]) && lower(a[i - 2]) == lower(b[j - 1]))
+                d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+        }
+    }
+    return d[a.size()][b.size()];
+}
+
+std::optional<std::string> nearMiss(std::string_view word, std::span<const std::string> candidates) {
+    if (word.size() > kSuggestedKeyMax) return std::nullopt;
+    const size_t allowed = word.size() <= 4 ? 1 : word.size() <= 8 ? 2 : 3;
+    std::optional<std::string> best;
+    size_t bestDistance = allowed + 1;
+    for (const auto& candidate : candidates) {
+        const size_t distance = editDistance(word, candidate);
+        if (distance < bestDistance) {
+            bestDistance = distance;
+            best = candidate;
+        }
+    }
+    return best;
+}
+
+std::string didYouMean(std::string_view word, std::span<const std::string> candidates, bool asKey) {
+    const auto best = nearMiss(word, candidates);
+    if (!best) return "";
+    return fmt::format(" (did you mean {}?)", asKey ? quoteKey(*best) : quoteString(*best));
+}
+
+SourceLocation locationOf(const toml::source_region& region, SourceLocation fallback) {
+    if (region.begin.line == 0) return fallback;
+    const auto clamp = [](toml::source_index i) { return static_cast<int>(std::min<toml::source_index>(i, INT_MAX)); };
+    return {clamp(region.begin.line), clamp(region.begin.column)};
+}
+
+void checkKeys(const TableReader& table, std::span<const KeyRule> rules, std::string_view type,
+               const std::string& subject) {
+    std::vector<std::string> taken;
+    for (const auto& rule : rules)
+        if (rule.types.empty() || std::find(rule.types.begin(), rule.types.end(), type) != rule.types.end())
+            taken.emplace_back(rule.key);
+    for (const auto& [key, where] : table.keysInOrder()) {
+        if (std::find(taken.begin(), taken.end(), key) != taken.end()) continue;
+        const auto rule = std::find_if(rules.begin(), rules.end(), [&k = key](const KeyRule& r) { return r.key == k; });
+        if (rule != rules.end()) {
+            const std::vector<std::string> owners(rule->types.begin(), rule->types.end());
+            table.fail(where, fmt::format("key {} does not apply to {} (only to {})", quoteKey(key), subject,
+                                          quoteAll(owners)));
+        }
+        table.fail(where, fmt::format("unknown key {} in {}{}", quoteKey(key), table.label(),
+                                      didYouMean(key, taken, true)));
+    }
+}
+
+void refuseMisspeltKey(const TableReader& table, std::span<const KeyRule> rules, std::string_view required) {
+    const std::vector<std::string> wanted{std::string(required)};
+    for (const auto& [key, where] : table.keysInOrder()) {
+        const bool known =
+            std::any_of(rules.begin(), rules.end(), [&k = key](const KeyRule& r) { return r.key == k; });
+        if (!known && nearMiss(key, wanted))
+            table.fail(where, fmt::format("unknown key {} in {}{}", quoteKey(key), table.label(),
+                                          didYouMean(key, wanted, true)));
+    }
+}
+
+}  // namespace terracast::toml_reader
