@@ -3,6 +3,7 @@
 #include "loaders/scene_assets.h"
 #include "loaders/scene_file.h"
 #include "support/golden.h"
+#include "tracer/scene/scene_pipeline.h"
 #include "tracer/scene/scene_renderer.h"
 
 #include <catch2/catch.hpp>
@@ -25,17 +26,11 @@ Rendered renderSample(const std::string& name, int width, int height) {
     const SceneDescription d = loadSceneFile(path);
     const LoadedSceneAssets loaded = loadSceneAssets(d);
     const Scene scene(d, loaded.assets);
-    SceneRenderSettings s;
+    // The file's own settings, at this size, with the sampling capped so that CI stays quick.
+    SceneRenderSettings s = sceneRenderSettings(d.render);
     s.width = width;
     s.height = height;
-    // The file's own sampling, capped so that CI stays quick.
     s.samples = std::min(d.render.samples, 16);
-    s.pattern = d.render.sampler;
-    s.filter = PixelFilter::defaults(d.render.filter);
-    s.seed = d.render.seed;
-    s.maxDepth = d.render.maxDepth;
-    s.minWeight = d.render.minWeight;
-    s.exposure = d.render.exposure;
     s.threads = 2;
     const SceneCamera camera = makeSceneCamera(scene, d.camera, double(width) / double(height));
     Rendered r;
