@@ -14,7 +14,7 @@
 
 namespace terracast {
 
-// How each cell is hit (DESIGN.md section 5). Speed and accuracy trade against each other.
+// How each cell is hit (docs/architecture.md, "Cell intersectors"). Speed and accuracy trade against each other.
 enum class CellMethod {
     Bilinear,        // exact bilinear patch, float arithmetic in cell-local coordinates
     BilinearDouble,  // the same in double

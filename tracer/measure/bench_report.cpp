@@ -23,8 +23,8 @@ std::string skippedMethodJson(BenchMethod method, double neededBytes) {
 
 }  // namespace
 
-// One grid's object in the bench report: the DESIGN section 8 shape, with the corner camera at the most
-// threads as each method's headline numbers and every pass listed under "passes".
+// One grid's object in the bench report: the shape of docs/architecture.md, "Contracts", with the corner
+// camera at the most threads as each method's headline numbers and every pass listed under "passes".
 std::string benchGridJson(const BenchJob& job, const BenchGridResult& r, const BenchSettings& s) {
     // The agreement's reference: the first method that was measured (a skipped one has no hits).
     const char* reference = "";
