@@ -148,7 +148,7 @@ void BM_PyramidDescent(benchmark::State& state) {
         const double x = grid.extentXM() * (0.1 + 0.8 * U(rng)), y = grid.extentYM() * (0.1 + 0.8 * U(rng));
         const int64_t i = int64_t(x / grid.cellSizeXM()), j = int64_t(y / grid.cellSizeYM());
         const double az = 2.0 * kPi * U(rng);
-        const double el = (45.0 + 35.0 * U(rng)) * kPi / 180.0;
+        const double el = radians(45.0 + 35.0 * U(rng));
         const glm::dvec3 down{std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), -std::sin(el)};
         const glm::dvec3 target{x, y, double(grid.at(i, j))};
         r.dir = down;

@@ -40,7 +40,6 @@ void addBenchCommand(CLI::App& app, Commands& commands) {
                   "from the largest synthetic grid written as a 16-bit PNG height map");
     cmd->add_flag("--large", bench.large, "Add a 32769 x 32769 synthetic grid (skipped when over --max-memory)");
     cmd->add_flag("--real", bench.real, "Add the GeoTIFF and .hgt DEMs of --data");
-    bench.dataDir = TERRACAST_DATA_DIR;
     cmd->add_option("--data", bench.dataDir, "Folder of the DEMs --real adds (default: the sample DEMs)");
     cmd->add_option("--seed", bench.seed, "Seed of the synthetic terrain (default 1)");
     addMaxMemoryOption(
@@ -49,6 +48,7 @@ void addBenchCommand(CLI::App& app, Commands& commands) {
     commands.push_back({cmd, [t] {
                             return guarded([&] {
                                 t->options.sizes = parseBenchSizes(t->sizes);
+                                if (t->options.dataDir.empty()) t->options.dataDir = TERRACAST_DATA_DIR;
                                 if (!t->methods.empty()) t->options.methods = parseBenchMethods(t->methods);
                                 runBenchReport(t->options, ConsoleListener(false).listener());
                             });

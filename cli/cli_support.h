@@ -37,7 +37,7 @@ void addBenchCommand(CLI::App& app, Commands& commands);
 int guarded(const std::function<void()>& job);
 
 // Prints a job's report on stdout, warnings always, notes unless `quiet`, and, when stderr is a terminal,
-// status lines and progress (percentage, rays per second, time left) unless `quiet`.
+// status lines, and progress (percentage, rays per second, time left) unless `quiet`.
 class ConsoleListener {
 public:
     explicit ConsoleListener(bool quiet);

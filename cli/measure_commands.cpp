@@ -45,21 +45,7 @@ void addMeasureCommands(CLI::App& app, Commands& commands) {
                                     CompareRunOptions& o = t->options;
                                     parseSizeOption(t->size, o.width, o.height);
                                     parseSunOption(t->sun, o.sunAzimuthDeg, o.sunElevationDeg);
-                                    if (!t->methods.empty()) {
-                                        o.methods.clear();
-                                        size_t start = 0;
-                                        while (start <= t->methods.size()) {
-                                            const size_t comma = t->methods.find(',', start);
-                                            const std::string name = t->methods.substr(start, comma - start);
-                                            const auto m = parseSurfaceMethod(name);
-                                            if (!m)
-                                                throw InputError(fmt::format("--methods: expected names from {}, found '{}'",
-                                                                             surfaceMethodList(), name));
-                                            o.methods.push_back(*m);
-                                            if (comma == std::string::npos) break;
-                                            start = comma + 1;
-                                        }
-                                    }
+                                    if (!t->methods.empty()) o.methods = parseCompareMethods(t->methods);
                                     o.camera = parseCameraOption(t->camera);
                                     runCompareReport(o, ConsoleListener(false).listener());
                                 });

@@ -77,13 +77,15 @@ void addRenderCommand(CLI::App& app, Commands& commands) {
                                 if (t->colour != "grey" && t->colour != "ramp")
                                     throw InputError(
                                         fmt::format("--colour: expected grey or ramp, found '{}'", t->colour));
-                                const auto sky = parseSkyKind(t->sky);
-                                if (!sky)
-                                    throw InputError(fmt::format(
-                                        "--sky: expected physical, gradient, flat or none, found '{}'", t->sky));
-                                r.sky = *sky;
-                                r.camera = parseCameraOption(t->camera);
                                 r.mapView = t->view == "map";
+                                if (!r.mapView) {  // the map view has no sky model and no camera to set
+                                    const auto sky = parseSkyKind(t->sky);
+                                    if (!sky)
+                                        throw InputError(fmt::format(
+                                            "--sky: expected physical, gradient, flat or none, found '{}'", t->sky));
+                                    r.sky = *sky;
+                                    r.camera = parseCameraOption(t->camera);
+                                }
                                 r.castShadows = !t->noShadows;
                                 r.colourRamp = t->colour == "ramp";
                                 const ConsoleListener console(t->quiet);

@@ -1,8 +1,11 @@
 #include "loaders/crs.h"
 
+#include "tracer/sky/sun_position.h"
+
 #include "tracer/core/errors.h"
 
 #include <cpl_error.h>
+#include <fmt/format.h>
 #include <ogr_spatialref.h>
 
 #include <cmath>
@@ -62,6 +65,17 @@ void sourceToLocal(const LoadedDem& dem, double x, double y, double& xM, double&
     const double spy = dem.geo.georeferenced ? std::abs(dem.geo.geoTransform[5]) : 1.0;
     xM = (x - dem.geo.originX) / spx * dem.grid.cellSizeXM();
     yM = (y - dem.geo.originY) / spy * dem.grid.cellSizeYM();
+}
+
+std::string placeSunOverGrid(const UtcInstant& when, const GeoReference& geo, int64_t width, int64_t height,
+                             const std::string& what, double& azimuthDeg, double& elevationDeg) {
+    double lon = 0.0, lat = 0.0;
+    gridCentreLonLat(geo, width, height, what, lon, lat);
+    const SolarPosition p = solarPosition(when, lat, lon);
+    azimuthDeg = p.azimuthDeg;
+    elevationDeg = p.apparentElevationDeg;
+    return fmt::format("sun at {} over {:.4f}, {:.4f} (lat, lon): azimuth {:.2f}, elevation {:.2f} degrees",
+                       formatUtc(when), lat, lon, azimuthDeg, elevationDeg);
 }
 
 }  // namespace terracast

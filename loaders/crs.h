@@ -2,6 +2,9 @@
 #pragma once
 
 #include "loaders/dem_loader.h"
+#include "tracer/sky/calendar.h"
+
+#include <string>
 
 namespace terracast {
 
@@ -13,6 +16,12 @@ void lonLatToSource(const GeoReference& geo, double lonDeg, double latDeg, doubl
 // Throws InputError naming `what` when the grid has no CRS or the transformation fails.
 void gridCentreLonLat(const GeoReference& geo, int64_t width, int64_t height, const std::string& what, double& lonDeg,
                       double& latDeg);
+
+// Where the sun stands at `when` over the centre of a grid of `width` x
+// `height` vertices placed by `geo`, by NOAA's equations: sets the azimuth and apparent elevation and returns a
+// line saying so. Throws InputError naming `what` when the grid has no CRS.
+std::string placeSunOverGrid(const UtcInstant& when, const GeoReference& geo, int64_t width, int64_t height,
+                             const std::string& what, double& azimuthDeg, double& elevationDeg);
 
 // Source-CRS coordinates to the grid's local metres (x east, y north, origin at the south-west sample).
 void sourceToLocal(const LoadedDem& dem, double x, double y, double& xM, double& yM);

@@ -9,6 +9,7 @@
 
 #include "tracer/core/angles.h"
 #include "tracer/core/resources.h"
+#include "tracer/core/text.h"
 #include "loaders/dem_loader.h"
 
 #include "tracer/core/errors.h"
@@ -464,7 +465,7 @@ LoadedDem loadWithImageInput(const std::string& path, const DemLoadOptions& opti
 LoadedDem loadDem(const std::string& path, const DemLoadOptions& options) {
     checkIsFile(path);
     // The one place where a format is chosen: PNG height maps through OpenImageIO, everything else through GDAL.
-    if (toLower(std::filesystem::path(path).extension().string()) == ".png") return loadWithImageInput(path, options);
+    if (lowerExtension(path) == ".png") return loadWithImageInput(path, options);
     return loadWithGdal(path, options);
 }
 

@@ -2,7 +2,6 @@
 
 #include "loaders/crs.h"
 #include "loaders/loader_support.h"
-#include "tracer/sky/sun_position.h"
 
 #include <gdal_priv.h>
 #include <gdal_utils.h>
@@ -127,17 +126,6 @@ LoadedSceneAssets loadSceneAssets(const SceneDescription& scene, double maxBytes
         }
     }
     return out;
-}
-
-std::string placeSunOverGrid(const UtcInstant& when, const GeoReference& geo, int64_t width, int64_t height,
-                             const std::string& what, double& azimuthDeg, double& elevationDeg) {
-    double lon = 0.0, lat = 0.0;
-    gridCentreLonLat(geo, width, height, what, lon, lat);
-    const SolarPosition p = solarPosition(when, lat, lon);
-    azimuthDeg = p.azimuthDeg;
-    elevationDeg = p.apparentElevationDeg;
-    return fmt::format("sun at {} over {:.4f}, {:.4f} (lat, lon): azimuth {:.2f}, elevation {:.2f} degrees", formatUtc(when), lat,
-                       lon, azimuthDeg, elevationDeg);
 }
 
 std::vector<std::string> placeTimedSuns(SceneDescription& scene, const LoadedSceneAssets& loaded) {

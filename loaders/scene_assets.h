@@ -23,12 +23,6 @@ struct LoadedSceneAssets {
 // `path:line:column` of the key that named the file. `maxBytes` bounds each DEM as in loadDem.
 LoadedSceneAssets loadSceneAssets(const SceneDescription& scene, double maxBytes = 0.0);
 
-// Where the sun stands at `when` over the centre of a grid of `width` x
-// `height` vertices placed by `geo`, by NOAA's equations: sets the azimuth and apparent elevation and returns a
-// line saying so. Throws InputError naming `what` when the grid has no CRS.
-std::string placeSunOverGrid(const UtcInstant& when, const GeoReference& geo, int64_t width, int64_t height,
-                             const std::string& what, double& azimuthDeg, double& elevationDeg);
-
 // Sets the azimuth and elevation of every sun given by a `time`: where the sun stands at that instant over the
 // centre of the first height field (NOAA's solar position, apparent elevation). Returns one line per such sun
 // saying where it put it. Throws InputError at the light's `path:line:column` when the scene has no

@@ -459,12 +459,7 @@ LightDescription parseLight(const TableReader& t) {
 
 constexpr int64_t kMaxSkySamples = 1024;
 
-constexpr std::array<Choice<SkyKind>, 4> kSkyKinds{{
-    {"physical", SkyKind::Physical},
-    {"gradient", SkyKind::Gradient},
-    {"flat", SkyKind::Flat},
-    {"none", SkyKind::None},
-}};
+const std::vector<Choice<SkyKind>> kSkyKinds = namedChoices(skyKinds(), skyKindName);
 
 const std::vector<KeyRule> kSkyKeys{
     {"model", {}},
@@ -478,8 +473,8 @@ const std::vector<KeyRule> kSkyKeys{
 SkyDescription parseSky(const TableReader& t) {
     SkyDescription sky;
     sky.where = t.where();
-    sky.kind = t.choice<SkyKind>("model", kSkyKinds).value_or(SkyKind::Physical);
-    const std::string_view model = choiceName<SkyKind>(kSkyKinds, sky.kind);
+    sky.kind = t.choice<SkyKind>("model", std::span<const Choice<SkyKind>>(kSkyKinds)).value_or(SkyKind::Physical);
+    const std::string_view model = choiceName<SkyKind>(std::span<const Choice<SkyKind>>(kSkyKinds), sky.kind);
     checkKeys(t, kSkyKeys, model, fmt::format("a sky of model {}", quoteString(model)));
     if (const auto c = t.rgb("color", kNonNegative, false)) sky.colour = *c;
     if (const auto h = t.number("haze", kNonNegative)) sky.haze = *h;

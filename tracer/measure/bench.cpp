@@ -4,6 +4,7 @@
 #include "tracer/core/errors.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <sstream>
 
@@ -106,15 +107,19 @@ std::vector<int64_t> parseBenchSizes(const std::string& text) {
 // Parses "bilinear,triangles" into bench methods, in report order; embree is always measured (the ratios'
 // reference).
 std::vector<BenchMethod> parseBenchMethods(const std::string& text) {
+    const auto benchMethodNames = [] {
+        std::vector<std::string> names;
+        for (BenchMethod m : benchMethods()) names.emplace_back(benchMethodName(m));
+        return names;
+    };
     std::vector<bool> wanted(benchMethods().size(), false);
     std::stringstream in(text);
     std::string item;
     while (std::getline(in, item, ',')) {
         const auto m = parseBenchMethod(item);
         if (!m)
-            throw InputError(fmt::format("--methods: expected a comma-separated list of bilinear, bilinear-flat, "
-                                         "triangles, embree, embree-grid, found '{}'",
-                                         item));
+            throw InputError(fmt::format("--methods: expected a comma-separated list of {}, found '{}'",
+                                         fmt::join(benchMethodNames(), ", "), item));
         wanted[size_t(std::find(benchMethods().begin(), benchMethods().end(), *m) - benchMethods().begin())] = true;
     }
     if (text.empty() || text.back() == ',')

@@ -81,7 +81,8 @@ private:
 // `render` on it as a user would (--cell-size 30 --size 1024x768 --threads N) with bilinear and with embree,
 // each picture written into the same folder; reads both pictures back to compare them, then removes the folder.
 FileToPictureResult fileToPicture(int64_t size, uint64_t seed, int threads, double maxMemoryBytes, double limit,
-                                  const std::function<void(const std::string&)>& onStep) {
+                                  const std::function<void(const std::string&)>& onStep,
+                                  const std::function<void(const std::string&)>& onWarning) {
     using Clock = std::chrono::steady_clock;
     const auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
     FileToPictureResult out;
@@ -145,7 +146,9 @@ FileToPictureResult fileToPicture(int64_t size, uint64_t seed, int threads, doub
         ro.dem.path = heightMap;
         ro.output = (scratch.path() / (std::string(benchMethodName(run.method)) + ".png")).string();
         ro.method = benchSurfaceMethod(run.method);
-        run.seconds = renderDem(ro, RunListener{});
+        RunListener quiet;  // as `render --quiet`: warnings only
+        quiet.warning = onWarning;
+        run.seconds = renderDem(ro, quiet);
         run.pictureBytes = int64_t(std::filesystem::file_size(ro.output));
         pictures.push_back(readImage(ro.output));
         run.pictureWidth = pictures.back().width;
@@ -278,7 +281,7 @@ void runBenchReport(const BenchRunOptions& o, const RunListener& listener) {
             onStep = [&](const std::string& step) {
                 listener.at(fmt::format("bench: file to picture, synthetic-{}: {}", largest, step));
             };
-        const FileToPictureResult f = fileToPicture(largest, o.seed, most, o.maxMemoryBytes, limit, onStep);
+        const FileToPictureResult f = fileToPicture(largest, o.seed, most, o.maxMemoryBytes, limit, onStep, listener.warning);
         listener.at("");
         listener.print(fileToPictureTable(f, limit));
         json += fileToPictureJson(f);

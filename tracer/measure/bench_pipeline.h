@@ -69,9 +69,11 @@ struct FileToPictureResult {
 };
 
 
-// The file-to-picture run for the synthetic grid of `size`: see runBenchReport.
+// The file-to-picture run for the synthetic grid of `size`: see runBenchReport. `onStep` hears the steps,
+// `onWarning` the loader's warnings about the height map.
 FileToPictureResult fileToPicture(int64_t size, uint64_t seed, int threads, double maxMemoryBytes, double limit,
-                                  const std::function<void(const std::string&)>& onStep);
+                                  const std::function<void(const std::string&)>& onStep,
+                                  const std::function<void(const std::string&)>& onWarning = {});
 
 // The report's pieces: a grid's object and table, and the file-to-picture object and table.
 std::string benchGridJson(const BenchJob& job, const BenchGridResult& r, const BenchSettings& s);

@@ -1,5 +1,6 @@
 #include "tracer/measure/compare.h"
 
+#include "tracer/core/errors.h"
 #include "tracer/measure/svg_chart.h"
 
 #include "tracer/sky/sky.h"
@@ -105,6 +106,23 @@ const std::vector<SurfaceMethod>& compareMethods() {
     static const std::vector<SurfaceMethod> methods{SurfaceMethod::Bilinear, SurfaceMethod::BilinearDouble,
                                                     SurfaceMethod::Triangles, SurfaceMethod::Nearest,
                                                     SurfaceMethod::Embree, SurfaceMethod::EmbreeGrid};
+    return methods;
+}
+
+std::vector<SurfaceMethod> parseCompareMethods(const std::string& text) {
+    std::vector<SurfaceMethod> methods;
+    size_t start = 0;
+    while (start <= text.size()) {
+        const size_t comma = text.find(',', start);
+        const std::string name = text.substr(start, comma - start);
+        const auto m = parseSurfaceMethod(name);
+        if (!m)
+            throw InputError("--methods: expected names from " + std::string(surfaceMethodList()) + ", found '" +
+                             name + "'");
+        methods.push_back(*m);
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
     return methods;
 }
 

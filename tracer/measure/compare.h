@@ -17,6 +17,8 @@ namespace terracast {
 
 // The methods `compare` runs, in report order.
 const std::vector<SurfaceMethod>& compareMethods();
+// Parses "bilinear,embree" into surface methods, in the order given; throws InputError naming --methods.
+std::vector<SurfaceMethod> parseCompareMethods(const std::string& text);
 
 struct CompareSettings {
     TerrainRenderSettings render;                          // size, camera, sun, threads (method unused)

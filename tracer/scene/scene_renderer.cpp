@@ -414,9 +414,9 @@ SceneCamera makeSceneCamera(const Scene& scene, const CameraDescription& d, doub
         if (!box.finite()) box = {glm::dvec3(-1.0), glm::dvec3(1.0)};
         const glm::dvec3 centre = box.centre();
         const double pitch = radians(30.0), azimuth = radians(45.0);
-        glm::dvec3 forward{std::sin(azimuth) * std::cos(pitch), std::cos(azimuth) * std::cos(pitch), -std::sin(pitch)};
+        glm::dvec3 forward = directionFromRadians(azimuth, -pitch);
         if (d.lookAt && !d.eye) forward = glm::normalize(*d.lookAt - centre + forward * 1e-9);
-        const double tanV = std::tan(d.fovDeg * kPi / 360.0), tanH = tanV * aspect;
+        const double tanV = std::tan(radians(d.fovDeg) * 0.5), tanH = tanV * aspect;
         const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(0, 0, 1)));
         const glm::dvec3 up = glm::cross(right, forward);
         double distance = 0.0;

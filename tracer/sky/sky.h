@@ -1,5 +1,5 @@
 // The sky a render sees, built once per render from the scene's sky description: the physical atmosphere's
-// tables (tracer/atmosphere.h) or the simple gradient and flat skies. Everything it returns is in the
+// tables (tracer/sky/atmosphere.h) or the simple gradient and flat skies. Everything it returns is in the
 // renderers' units, where a white surface of albedo a facing a sun of irradiance E has radiance a E.
 #pragma once
 

@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 
 #include <optional>
+#include <span>
 #include <string_view>
 
 namespace terracast {
@@ -22,8 +23,13 @@ inline const char* skyKindName(SkyKind kind) {
     }
     return "physical";
 }
+// Every sky model, in the order lists and messages show them.
+inline std::span<const SkyKind> skyKinds() {
+    static constexpr SkyKind kAll[] = {SkyKind::Physical, SkyKind::Gradient, SkyKind::Flat, SkyKind::None};
+    return kAll;
+}
 inline std::optional<SkyKind> parseSkyKind(std::string_view name) {
-    for (SkyKind k : {SkyKind::Physical, SkyKind::Gradient, SkyKind::Flat, SkyKind::None})
+    for (SkyKind k : skyKinds())
         if (name == skyKindName(k)) return k;
     return std::nullopt;
 }

@@ -10,7 +10,6 @@ namespace terracast {
 
 namespace {
 
-
 // Refraction in degrees at a geometric elevation, as the NOAA calculator estimates it (standard atmosphere).
 double refractionDeg(double elevationDeg) {
     if (elevationDeg > 85.0) return 0.0;

@@ -7,9 +7,6 @@
 
 namespace terracast {
 
-namespace {
-}  // namespace
-
 Ray PinholeCamera::generate(double fx, double fy, double aspect) const {
     const glm::dvec3 forward = glm::normalize(lookAtM - eyeM);
     glm::dvec3 right = glm::cross(forward, up);
@@ -29,8 +26,7 @@ PinholeCamera autoCamera(const HeightGrid& grid, double aspect, double fovYDeg) 
     const glm::dvec3 centre = 0.5 * (lo + hi);
     // Looking north-east (azimuth 45 degrees) and 30 degrees below the horizon.
     const double pitch = radians(30.0), azimuth = radians(45.0);
-    const glm::dvec3 forward{std::sin(azimuth) * std::cos(pitch), std::cos(azimuth) * std::cos(pitch),
-                             -std::sin(pitch)};
+    const glm::dvec3 forward = directionFromRadians(azimuth, -pitch);
     const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(0, 0, 1)));
     const glm::dvec3 camUp = glm::cross(right, forward);
     const double tanV = std::tan(radians(fovYDeg) * 0.5), tanH = tanV * aspect;

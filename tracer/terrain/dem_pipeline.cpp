@@ -3,7 +3,7 @@
 #include "loaders/image_io.h"
 #include "loaders/output_paths.h"
 #include "loaders/raster_writer.h"
-#include "loaders/scene_assets.h"
+#include "loaders/crs.h"
 #include "tracer/core/errors.h"
 #include "tracer/core/resources.h"
 #include "tracer/core/text.h"

@@ -15,9 +15,6 @@ namespace terracast {
 // The surface point above local (x, y), as the hit of a vertical ray: position, normal and error bound.
 std::optional<HeightFieldHit> surfacePointAt(const HeightGrid& grid, double xM, double yM, CellMethod method);
 
-// Unit direction for a compass azimuth (clockwise from north) and an elevation above the horizon, radians.
-glm::dvec3 directionFromAngles(double azimuthRad, double elevationRad);
-
 // True when the terrain blocks the direction `dir` from a surface point (ray spawned off the surface).
 bool blockedFrom(const HeightGrid& grid, const HeightFieldHit& at, const glm::dvec3& dir, CellMethod method);
 
