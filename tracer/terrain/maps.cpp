@@ -4,6 +4,7 @@
 
 #include "tracer/core/parallel.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -32,7 +33,124 @@ std::optional<HeightFieldHit> vertexPoint(const HeightGrid& g, int64_t i, int64_
     if (!g.vertexValid(i, j)) return std::nullopt;
     return surfacePointAt(g, double(i) * g.cellSizeXM(), double(j) * g.cellSizeYM(), method);
 }
+
+// The flat squares of `nearest` put no surface at a vertex; the other methods pass through every vertex.
+bool exactAtVertices(CellMethod method) { return method != CellMethod::Nearest; }
+
+// True when vertex (i, j) is a corner of at least one valid cell: the surface passes through it.
+bool vertexOnSurface(const HeightGrid& g, int64_t i, int64_t j) {
+    if (!g.vertexValid(i, j)) return false;
+    for (int64_t cj = j - 1; cj <= j; ++cj)
+        for (int64_t ci = i - 1; ci <= i; ++ci)
+            if (ci >= 0 && cj >= 0 && ci < g.cellsX() && cj < g.cellsY() && g.cellValid(ci, cj)) return true;
+    return false;
+}
+
+// The ray z(t) = h(vertex) + t dz leaves vertex (i, j) over cell (ci, cj), whose corner it is, with the
+// horizontal step (du, dv) in cells per unit of t. With f(t) = z(t) - h(t) the ray's height over the cell's
+// surface along the way, f(0) = 0 and:
+//  - bilinear patch: f(t) = t s - t^2 q with s = dz - (b + d v0) du - (c + d u0) dv, q = d du dv (the patch
+//    h = a + b u + c v + d u v seen from its corner (u0, v0); docs/architecture.md, "Cell intersectors");
+//  - two triangles: f is linear in each triangle, s its slope in the triangle the ray starts in.
+// The ray is blocked inside the cell when it starts below the surface (s < 0, or s = 0 with q > 0) or when it
+// is below it where it leaves the cell, at tExit (f is concave or piecewise linear with one kink, so a dip
+// inside the cell shows at its exit).
+bool blockedInStartCell(const HeightGrid& g, int64_t i, int64_t j, int64_t ci, int64_t cj, double du, double dv,
+                        double dz, double tExit, CellMethod method) {
+    const double h00 = g.at(ci, cj), h10 = g.at(ci + 1, cj), h01 = g.at(ci, cj + 1), h11 = g.at(ci + 1, cj + 1);
+    const double u0 = double(i - ci), v0 = double(j - cj);
+    const double z0 = g.at(i, j);
+    const double u1 = u0 + tExit * du, v1 = v0 + tExit * dv;  // where the ray leaves the cell
+    double s = 0.0, q = 0.0, hExit = 0.0;
+    if (method == CellMethod::Triangles) {
+        // The diagonal runs from (1, 0) to (0, 1); below it (u + v < 1) the lower triangle's plane, above it the
+        // upper one's. A ray leaving (1, 0) or (0, 1) starts in the triangle its step points into.
+        const bool upperStart = u0 + v0 > 1.0 || (u0 + v0 == 1.0 && du + dv > 0.0);
+        s = dz - (upperStart ? (h11 - h01) * du + (h11 - h10) * dv : (h10 - h00) * du + (h01 - h00) * dv);
+        hExit = u1 + v1 <= 1.0 ? h00 + (h10 - h00) * u1 + (h01 - h00) * v1
+                               : h11 + (h11 - h01) * (u1 - 1.0) + (h11 - h10) * (v1 - 1.0);
+    } else {
+        const double b = h10 - h00, c = h01 - h00, d = h00 - h10 - h01 + h11;
+        s = dz - (b + d * v0) * du - (c + d * u0) * dv;
+        q = d * du * dv;
+        hExit = h00 + b * u1 + c * v1 + d * u1 * v1;
+    }
+    if (s < 0.0 || (s == 0.0 && q > 0.0)) return true;
+    return z0 + tExit * dz < hExit;
+}
+
+// True when the horizontal path of `ray` from t = t0 on, to where it leaves the grid's footprint, crosses a valid
+// cell (a 2D DDA over the cells, Amanatides and Woo 1987). Below the grid's lowest height, that cell's surface is
+// above the ray.
+bool crossesValidCell(const HeightGrid& g, const Ray& ray, double t0) {
+    const double du = ray.dir.x / g.cellSizeXM(), dv = ray.dir.y / g.cellSizeYM();
+    double u = (ray.origin.x + t0 * ray.dir.x) / g.cellSizeXM(), v = (ray.origin.y + t0 * ray.dir.y) / g.cellSizeYM();
+    const double nu = double(g.cellsX()), nv = double(g.cellsY());
+    if (u < 0.0 || v < 0.0 || u > nu || v > nv) return false;
+    // The cell the path enters: on a boundary, the one the direction points into.
+    int64_t ci = std::clamp<int64_t>(int64_t(std::floor(u)) - (du < 0.0 && u == std::floor(u) ? 1 : 0), 0, g.cellsX() - 1);
+    int64_t cj = std::clamp<int64_t>(int64_t(std::floor(v)) - (dv < 0.0 && v == std::floor(v) ? 1 : 0), 0, g.cellsY() - 1);
+    const int64_t stepI = du > 0.0 ? 1 : -1, stepJ = dv > 0.0 ? 1 : -1;
+    while (ci >= 0 && cj >= 0 && ci < g.cellsX() && cj < g.cellsY()) {
+        if (g.cellValid(ci, cj)) return true;
+        // Distance (in t) to the next vertical and horizontal grid line, from the integer cell index.
+        const double tu = du != 0.0 ? (double(ci + (du > 0.0 ? 1 : 0)) - u) / du : kInfinity;
+        const double tv = dv != 0.0 ? (double(cj + (dv > 0.0 ? 1 : 0)) - v) / dv : kInfinity;
+        const double t = std::min(tu, tv);
+        if (!(t < kInfinity)) return false;
+        u += t * du;
+        v += t * dv;
+        if (tu <= tv) ci += stepI;
+        if (tv <= tu) cj += stepJ;
+    }
+    return false;
+}
+
 }  // namespace
+
+bool blockedFromVertex(const HeightGrid& g, int64_t i, int64_t j, const glm::dvec3& dir, CellMethod method) {
+    double du = dir.x / g.cellSizeXM(), dv = dir.y / g.cellSizeYM();
+    // A direction within rounding of a grid line (azimuth 90 gives cos(pi / 2), about 6e-17, for y) runs along it.
+    if (std::abs(du) < 1e-12 * std::abs(dv)) du = 0.0;
+    if (std::abs(dv) < 1e-12 * std::abs(du)) dv = 0.0;
+    if (du == 0.0 && dv == 0.0) return dir.z <= 0.0;  // straight up is free; straight down is into the ground
+    // The cell the direction leaves the vertex over; along a grid line, the valid ones of the two beside it
+    // (the surface along their shared edge is the same line in both).
+    const int64_t ciLo = du > 0.0 ? i : i - 1, ciHi = du < 0.0 ? i - 1 : i;
+    const int64_t cjLo = dv > 0.0 ? j : j - 1, cjHi = dv < 0.0 ? j - 1 : j;
+    const double tExit = std::min(du != 0.0 ? 1.0 / std::abs(du) : kInfinity, dv != 0.0 ? 1.0 / std::abs(dv) : kInfinity);
+    bool overSurface = false;
+    for (int64_t cj = cjLo; cj <= cjHi && !overSurface; ++cj)
+        for (int64_t ci = ciLo; ci <= ciHi && !overSurface; ++ci)
+            if (ci >= 0 && cj >= 0 && ci < g.cellsX() && cj < g.cellsY() && g.cellValid(ci, cj)) {
+                if (blockedInStartCell(g, i, j, ci, cj, du, dv, dir.z, tExit, method)) return true;
+                overSurface = true;  // along an edge, both cells give the same answer
+            }
+    // Past the starting cell the walk decides, from the vertex itself: no offset skips any terrain. Over a hole
+    // (or off the grid) the walk starts a billionth of a cell from the vertex, past the vertex's own point on
+    // the cells beside it, so that terrain right beyond the hole is not skipped.
+    const glm::dvec3 origin{double(i) * g.cellSizeXM(), double(j) * g.cellSizeYM(), double(g.at(i, j))};
+    const Ray ray{origin, glm::normalize(glm::dvec3(du * g.cellSizeXM(), dv * g.cellSizeYM(), dir.z))};
+    const double start = overSurface ? tExit : 1e-9 * std::min(g.cellSizeXM(), g.cellSizeYM());
+    if (occluded(g, ray, {start, kInfinity}, method)) return true;
+    // The walk traces the grid's box of heights. A ray that sinks below the lowest height (through a hole) is
+    // under the surface of any valid cell it passes afterwards: blocked, as the horizon's definition wants.
+    if (ray.dir.z >= 0.0) return false;
+    const double tBottom = std::max(start, (double(g.minHeightM()) - origin.z) / ray.dir.z);
+    return crossesValidCell(g, ray, tBottom * (1.0 + 1e-12) + 1e-12);
+}
+
+double vertexHorizonAngleRad(const HeightGrid& g, int64_t i, int64_t j, double azimuthRad, CellMethod method,
+                             double toleranceRad) {
+    double lo = -0.5 * kPi, hi = 0.5 * kPi;
+    if (!blockedFromVertex(g, i, j, directionFromRadians(azimuthRad, lo + 1e-9), method)) return lo;
+    while (hi - lo > toleranceRad) {
+        const double mid = 0.5 * (lo + hi);
+        if (blockedFromVertex(g, i, j, directionFromRadians(azimuthRad, mid), method)) lo = mid;
+        else hi = mid;
+    }
+    return hi;
+}
 
 std::optional<HeightFieldHit> surfacePointAt(const HeightGrid& grid, double xM, double yM, CellMethod method) {
     const double top = double(grid.maxHeightM()) + 1.0 + 1e-3 * std::abs(double(grid.maxHeightM()));
@@ -75,16 +193,25 @@ MapRaster shadowMask(const HeightGrid& grid, double azimuthRad, double elevation
             }
     }
     return perVertex(grid, threads, [&](int64_t i, int64_t j) {
-        const auto at = vertexPoint(grid, i, j, method);
-        if (!at) return kNaN;
         int blocked = 0;
-        for (const auto& d : dirs) blocked += blockedFrom(grid, *at, d, method);
+        if (exactAtVertices(method)) {
+            if (!vertexOnSurface(grid, i, j)) return kNaN;
+            for (const auto& d : dirs) blocked += blockedFromVertex(grid, i, j, d, method);
+        } else {
+            const auto at = vertexPoint(grid, i, j, method);
+            if (!at) return kNaN;
+            for (const auto& d : dirs) blocked += blockedFrom(grid, *at, d, method);
+        }
         return float(double(blocked) / double(dirs.size()));
     });
 }
 
 MapRaster horizonMap(const HeightGrid& grid, double azimuthRad, CellMethod method, int threads) {
     return perVertex(grid, threads, [&](int64_t i, int64_t j) {
+        if (exactAtVertices(method)) {
+            if (!vertexOnSurface(grid, i, j)) return kNaN;
+            return float(degrees(vertexHorizonAngleRad(grid, i, j, azimuthRad, method)));
+        }
         const auto at = vertexPoint(grid, i, j, method);
         if (!at) return kNaN;
         return float(degrees(horizonAngleRad(grid, *at, azimuthRad, method)));

@@ -25,6 +25,17 @@ bool blockedFrom(const HeightGrid& grid, const HeightFieldHit& at, const glm::dv
 double horizonAngleRad(const HeightGrid& grid, const HeightFieldHit& at, double azimuthRad, CellMethod method,
                        double toleranceRad = 1e-7);
 
+// True when the terrain blocks `dir` from vertex (i, j), at the vertex's own height (docs/architecture.md,
+// "Map products at vertices"): the direction leaves the vertex over one cell (or along the edge between two);
+// it is blocked when it goes below that cell's surface before leaving it, and past that cell the walk decides.
+// For the methods whose surface passes through the vertices (all but nearest); the vertex must be a corner
+// of a valid cell.
+bool blockedFromVertex(const HeightGrid& grid, int64_t i, int64_t j, const glm::dvec3& dir, CellMethod method);
+
+// The horizon elevation angle (radians) at vertex (i, j) towards an azimuth, by bisection on blockedFromVertex.
+double vertexHorizonAngleRad(const HeightGrid& grid, int64_t i, int64_t j, double azimuthRad, CellMethod method,
+                             double toleranceRad = 1e-7);
+
 struct MapRaster {
     int64_t width = 0;
     int64_t height = 0;

@@ -1,0 +1,173 @@
+// Map products at vertices against answers that do not come from the tracer: the horizon and shadows of a
+// pyramid from its geometry, a vertex beside a hole, a bowl under a zenith sun, and a brute-force march over
+// the bilinear surface of a real DEM.
+#include "loaders/dem_loader.h"
+#include "tracer/core/angles.h"
+#include "tracer/terrain/maps.h"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+using namespace terracast;
+
+namespace {
+
+// A square pyramid of 21 x 21 vertices, 10 m apart: apex 100 m at vertex (10, 10), falling 10 m per cell
+// along the axes (a 45 degree slope on the faces).
+HeightGrid pyramid() {
+    std::vector<float> z(21 * 21);
+    for (int j = 0; j < 21; ++j)
+        for (int i = 0; i < 21; ++i) z[size_t(j * 21 + i)] = float(100 - 10 * std::max(std::abs(i - 10), std::abs(j - 10)));
+    return HeightGrid(21, 21, 10.0, 10.0, std::move(z));
+}
+
+float valueAt(const MapRaster& r, int64_t i, int64_t j) { return r.values[size_t(j * r.width + i)]; }
+
+// The bilinear surface at local (x, y), or NaN over a hole: interpolated here from the four corners of a valid
+// cell holding the point (on a grid line or a vertex, any of the two or four that touch it).
+double bilinearAt(const HeightGrid& g, double x, double y) {
+    const double u = x / g.cellSizeXM(), v = y / g.cellSizeYM();
+    const int64_t iu = int64_t(std::floor(u)), iv = int64_t(std::floor(v));
+    for (int64_t cj : {iv, iv - 1})
+        for (int64_t ci : {iu, iu - 1}) {
+            if (ci < 0 || cj < 0 || ci >= g.cellsX() || cj >= g.cellsY() || !g.cellValid(ci, cj)) continue;
+            const double fu = u - double(ci), fv = v - double(cj);
+            if (fu < 0.0 || fu > 1.0 || fv < 0.0 || fv > 1.0) continue;
+            return (1 - fu) * (1 - fv) * g.at(ci, cj) + fu * (1 - fv) * g.at(ci + 1, cj) + (1 - fu) * fv * g.at(ci, cj + 1) +
+                   fu * fv * g.at(ci + 1, cj + 1);
+        }
+    return std::nan("");
+}
+
+// The horizon (degrees) from vertex (i, j) towards an azimuth by marching over the bilinear surface: the
+// largest elevation angle to any sample, every thousandth of a cell for 5 cells and every hundredth beyond.
+// A lower bound of the exact horizon, close to it. NaN when the march crosses a hole: how a line of sight
+// passes holes is the walk's convention, not geometry.
+double bruteHorizonDeg(const HeightGrid& g, int64_t i, int64_t j, double azimuthDeg) {
+    const double x0 = double(i) * g.cellSizeXM(), y0 = double(j) * g.cellSizeYM(), z0 = g.at(i, j);
+    const double sx = std::sin(radians(azimuthDeg)), sy = std::cos(radians(azimuthDeg));
+    const double cell = std::min(g.cellSizeXM(), g.cellSizeYM());
+    double best = -90.0;
+    for (double r = 1e-4 * cell;; r = r < 1e-3 * cell ? r * 1.1 : r + (r < 5.0 * cell ? 1e-3 : 1e-2) * cell) {
+        const double x = x0 + r * sx, y = y0 + r * sy;
+        if (x < 0.0 || y < 0.0 || x > g.extentXM() || y > g.extentYM()) break;
+        const double h = bilinearAt(g, x, y);
+        if (std::isnan(h)) return h;
+        best = std::max(best, degrees(std::atan2(h - z0, r)));
+    }
+    return best;
+}
+
+}  // namespace
+
+TEST_CASE("Vertex maps: a pyramid's horizons and shadows are its geometry", "[tracer][maps]") {
+    const HeightGrid g = pyramid();
+    for (CellMethod method : {CellMethod::Bilinear, CellMethod::BilinearDouble, CellMethod::Reference, CellMethod::Triangles}) {
+        INFO(cellMethodName(method));
+        // From the apex along a grid line the face falls at 45 degrees; along a diagonal the vertices of the
+        // diagonal are the highest points, 10 m lower for every 10 sqrt(2) m.
+        CHECK(valueAt(horizonMap(g, radians(90.0), method), 10, 10) == Approx(-45.0).margin(1e-4));
+        CHECK(valueAt(horizonMap(g, radians(180.0), method), 10, 10) == Approx(-45.0).margin(1e-4));
+        const double diagonal = degrees(std::atan(-1.0 / std::sqrt(2.0)));
+        for (double az : {45.0, 135.0, 225.0, 315.0})
+            CHECK(valueAt(horizonMap(g, radians(az), method), 10, 10) == Approx(diagonal).margin(1e-4));
+        // On the east face, looking up the face to the apex and down it away from it.
+        CHECK(valueAt(horizonMap(g, radians(270.0), method), 15, 10) == Approx(45.0).margin(1e-4));
+        CHECK(valueAt(horizonMap(g, radians(90.0), method), 15, 10) == Approx(-45.0).margin(1e-4));
+        // A low sun anywhere leaves the apex lit; behind the pyramid, a sun lower than the faces shades them.
+        for (double az : {45.0, 200.0, 225.0, 300.0})
+            CHECK(valueAt(shadowMask(g, radians(az), radians(5.0), method), 10, 10) == 0.0f);
+        CHECK(valueAt(shadowMask(g, radians(270.0), radians(44.0), method), 15, 10) == 1.0f);
+        CHECK(valueAt(shadowMask(g, radians(270.0), radians(46.0), method), 15, 10) == 0.0f);
+    }
+}
+
+TEST_CASE("Vertex maps: a vertex beside a hole has a value, one with no valid cell has none", "[tracer][maps]") {
+    // Flat ground at 0 m, 11 x 11 vertices; vertex (6, 6) is nodata, so the four cells around it are holes and
+    // vertex (5, 5) keeps only its south and west cells.
+    std::vector<float> z(121, 0.0f);
+    std::vector<uint8_t> valid(121, 1);
+    valid[6 * 11 + 6] = 0;
+    const HeightGrid g(11, 11, 30.0, 30.0, z, valid);
+    for (CellMethod method : {CellMethod::Bilinear, CellMethod::Triangles}) {
+        // Over the valid cells and along their edges with the holes: the flat ground's horizon.
+        for (double az : {0.0, 90.0, 180.0, 225.0, 270.0}) {
+            INFO(cellMethodName(method) << " azimuth " << az);
+            const float h = valueAt(horizonMap(g, radians(az), method), 5, 5);
+            REQUIRE_FALSE(std::isnan(h));
+            CHECK(std::abs(h) < 1e-4);
+            CHECK(valueAt(shadowMask(g, radians(az), radians(1.0), method), 5, 5) == 0.0f);
+            CHECK(valueAt(shadowMask(g, radians(az), radians(-1.0), method), 5, 5) == 1.0f);
+        }
+        // Over the hole a value too, and a sun above the horizon lights the vertex.
+        CHECK_FALSE(std::isnan(valueAt(horizonMap(g, radians(45.0), method), 5, 5)));
+        CHECK(valueAt(shadowMask(g, radians(45.0), radians(1.0), method), 5, 5) == 0.0f);
+        CHECK(std::isnan(valueAt(horizonMap(g, 0.0, method), 6, 6)));
+    }
+}
+
+TEST_CASE("Vertex maps: a zenith sun lights every vertex of a bowl and of a real crater", "[tracer][maps]") {
+    std::vector<float> z(31 * 31);
+    for (int j = 0; j < 31; ++j)
+        for (int i = 0; i < 31; ++i) z[size_t(j * 31 + i)] = float((i - 15) * (i - 15) + (j - 15) * (j - 15));
+    const HeightGrid bowl(31, 31, 5.0, 5.0, std::move(z));
+    const LoadedDem crater = loadDem(std::string(TERRACAST_SOURCE_DIR) +
+                                     "/data-samples/usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif");
+    for (const HeightGrid* g : {&bowl, &crater.grid}) {
+        const MapRaster mask = shadowMask(*g, radians(315.0), radians(90.0), CellMethod::Bilinear);
+        int64_t lit = 0, shadowed = 0;
+        for (float v : mask.values) {
+            lit += v == 0.0f;
+            shadowed += v == 1.0f;
+        }
+        CHECK(shadowed == 0);
+        CHECK(lit > 900);
+    }
+}
+
+TEST_CASE("Vertex maps: horizons agree with a brute-force march over a real DEM's bilinear surface",
+          "[tracer][maps]") {
+    // A 121 x 121 window of the White Mountains SRTM tile: rugged, and with cells of 92.6 x 66.3 m, so that no
+    // azimuth but the axes' runs along a grid diagonal; and a small DEM with holes, where only marches that
+    // meet none are compared.
+    const LoadedDem srtm = loadDem(std::string(TERRACAST_SOURCE_DIR) + "/data-samples/N44W072.srtm3-white-mountains-nh.hgt");
+    const HeightGrid& s = srtm.grid;
+    std::vector<float> window;
+    for (int64_t j = 500; j < 621; ++j)
+        for (int64_t i = 600; i < 721; ++i) window.push_back(s.at(i, j));
+    const HeightGrid mountains(121, 121, s.cellSizeXM(), s.cellSizeYM(), std::move(window));
+    const LoadedDem holed = loadDem(std::string(TERRACAST_SOURCE_DIR) +
+                                    "/data-samples/landfire-storm-lake-mt-utm12n-int16-small-nodata.tif");
+    for (const HeightGrid* grid : {&mountains, &holed.grid}) {
+    const HeightGrid& g = *grid;
+    std::mt19937_64 rng(7);
+    std::uniform_int_distribution<int64_t> I(0, g.width() - 1), J(0, g.height() - 1);
+    int64_t compared = 0, off = 0;
+    double worst = 0.0;
+    std::string misses;
+    for (double az : {45.0, 90.0, 200.0, 315.0}) {
+        const MapRaster horizon = horizonMap(g, radians(az), CellMethod::Bilinear);
+        for (int k = 0; k < 150; ++k) {
+            const int64_t i = I(rng), j = J(rng);
+            const float exact = valueAt(horizon, i, j);
+            if (std::isnan(exact)) continue;
+            const double brute = bruteHorizonDeg(g, i, j, az);
+            if (std::isnan(brute)) continue;
+            // The march can only miss the highest point (it is a lower bound), by little.
+            const double diff = double(exact) - brute;
+            worst = std::max(worst, std::abs(diff));
+            off += diff < -1e-3 || diff > 0.02;
+            if (diff < -1e-3 || diff > 0.02)
+                misses += "azimuth " + std::to_string(az) + ", vertex " + std::to_string(i) + "," + std::to_string(j) +
+                          ": " + std::to_string(exact) + " against " + std::to_string(brute) + "\n";
+            ++compared;
+        }
+    }
+    INFO(compared << " vertices, " << off << " off, worst " << worst << " degrees\n" << misses);
+    CHECK(compared > 80);
+    CHECK(off == 0);
+    }
+}
