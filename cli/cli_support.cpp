@@ -154,8 +154,7 @@ void parseSunOption(const std::string& text, double& azimuthDeg, double& elevati
 }
 
 SurfaceMethod parseMethodOption(const std::string& text, const char* option) {
-    if (const auto m = parseSurfaceMethod(text)) return *m;
-    throw InputError(fmt::format("{}: expected one of {}, found '{}'", option, surfaceMethodList(), text));
+    return parseNamedOption(text, option, parseSurfaceMethod, surfaceMethodList());
 }
 
 std::optional<PinholeCamera> parseCameraOption(const std::string& text) {

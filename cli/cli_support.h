@@ -3,6 +3,7 @@
 // wrapper that turns a job's exceptions into one error line and an exit code.
 #pragma once
 
+#include "tracer/core/errors.h"
 #include "tracer/core/listener.h"
 #include "tracer/terrain/dem_pipeline.h"
 
@@ -59,6 +60,13 @@ bool parsePair(const std::string& text, double& a, double& b);         // "A,B",
 void parseSizeOption(const std::string& text, int& width, int& height);
 void parseSunOption(const std::string& text, double& azimuthDeg, double& elevationDeg);
 SurfaceMethod parseMethodOption(const std::string& text, const char* option = "--method");
+// A value named by its enumeration's own parser (a sample pattern, a filter); `list` names the choices.
+template <class E>
+E parseNamedOption(const std::string& text, const char* option, std::optional<E> (*parse)(std::string_view),
+                   const char* list) {
+    if (const auto value = parse(text)) return *value;
+    throw InputError(option + std::string(": expected one of ") + list + ", found '" + text + "'");
+}
 std::optional<PinholeCamera> parseCameraOption(const std::string& text);  // empty text: none
 UtcInstant parseSunTimeOption(const std::string& text);
 // X,Y pixel indices.

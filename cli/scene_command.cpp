@@ -8,18 +8,6 @@
 
 namespace terracast::cli {
 
-namespace {
-
-// A named value of an option (a sample pattern or a filter), or InputError naming the choices.
-template <class E>
-E parseNamedOption(const std::string& text, const char* option, std::optional<E> (*parse)(std::string_view),
-                   const char* list) {
-    if (const auto value = parse(text)) return *value;
-    throw InputError(fmt::format("{}: expected one of {}, found '{}'", option, list, text));
-}
-
-}  // namespace
-
 void addSceneCommand(CLI::App& app, Commands& commands) {
     struct Texts {
         SceneRunOptions options;

@@ -46,6 +46,21 @@ bool vertexOnSurface(const HeightGrid& g, int64_t i, int64_t j) {
     return false;
 }
 
+// The horizon elevation angle (radians) towards an azimuth from a point whose blocked directions form one
+// interval from -90 degrees up (a height field has no overhangs): bisection on `blocked(direction)` to
+// `toleranceRad`; -pi/2 when nothing blocks even the lowest direction tested.
+template <class Blocked>
+double bisectHorizon(double azimuthRad, double toleranceRad, Blocked&& blocked) {
+    double lo = -0.5 * kPi, hi = 0.5 * kPi;
+    if (!blocked(directionFromRadians(azimuthRad, lo + 1e-9))) return lo;
+    while (hi - lo > toleranceRad) {
+        const double mid = 0.5 * (lo + hi);
+        if (blocked(directionFromRadians(azimuthRad, mid))) lo = mid;
+        else hi = mid;
+    }
+    return hi;
+}
+
 // The ray z(t) = h(vertex) + t dz leaves vertex (i, j) over cell (ci, cj), whose corner it is, with the
 // horizontal step (du, dv) in cells per unit of t. With f(t) = z(t) - h(t) the ray's height over the cell's
 // surface along the way, f(0) = 0 and:
@@ -140,18 +155,6 @@ bool blockedFromVertex(const HeightGrid& g, int64_t i, int64_t j, const glm::dve
     return crossesValidCell(g, ray, tBottom * (1.0 + 1e-12) + 1e-12);
 }
 
-double vertexHorizonAngleRad(const HeightGrid& g, int64_t i, int64_t j, double azimuthRad, CellMethod method,
-                             double toleranceRad) {
-    double lo = -0.5 * kPi, hi = 0.5 * kPi;
-    if (!blockedFromVertex(g, i, j, directionFromRadians(azimuthRad, lo + 1e-9), method)) return lo;
-    while (hi - lo > toleranceRad) {
-        const double mid = 0.5 * (lo + hi);
-        if (blockedFromVertex(g, i, j, directionFromRadians(azimuthRad, mid), method)) lo = mid;
-        else hi = mid;
-    }
-    return hi;
-}
-
 std::optional<HeightFieldHit> surfacePointAt(const HeightGrid& grid, double xM, double yM, CellMethod method) {
     const double top = double(grid.maxHeightM()) + 1.0 + 1e-3 * std::abs(double(grid.maxHeightM()));
     return intersect(grid, Ray{{xM, yM, top}, {0.0, 0.0, -1.0}}, {0.0, kInfinity}, method);
@@ -166,15 +169,38 @@ bool blockedFrom(const HeightGrid& grid, const HeightFieldHit& at, const glm::dv
 
 double horizonAngleRad(const HeightGrid& grid, const HeightFieldHit& at, double azimuthRad, CellMethod method,
                        double toleranceRad) {
-    double lo = -0.5 * kPi, hi = 0.5 * kPi;
-    if (!blockedFrom(grid, at, directionFromRadians(azimuthRad, lo + 1e-9), method)) return lo;
-    while (hi - lo > toleranceRad) {
-        const double mid = 0.5 * (lo + hi);
-        if (blockedFrom(grid, at, directionFromRadians(azimuthRad, mid), method)) lo = mid;
-        else hi = mid;
-    }
-    return hi;
+    return bisectHorizon(azimuthRad, toleranceRad, [&](const glm::dvec3& d) { return blockedFrom(grid, at, d, method); });
 }
+
+namespace {
+
+// A map product's question at vertex (i, j): does the terrain block a direction? From the vertex itself for
+// the methods whose surface passes through the vertices; from the surface point under the vertex for nearest.
+class VertexView {
+public:
+    VertexView(const HeightGrid& g, int64_t i, int64_t j, CellMethod method) : g_(g), i_(i), j_(j), method_(method) {
+        if (exactAtVertices(method)) {
+            onSurface_ = vertexOnSurface(g, i, j);
+        } else {
+            probe_ = vertexPoint(g, i, j, method);
+            onSurface_ = probe_.has_value();
+        }
+    }
+    // False for a vertex that is a corner of no valid cell: the map has no value there.
+    bool onSurface() const { return onSurface_; }
+    bool blocked(const glm::dvec3& dir) const {
+        return probe_ ? blockedFrom(g_, *probe_, dir, method_) : blockedFromVertex(g_, i_, j_, dir, method_);
+    }
+
+private:
+    const HeightGrid& g_;
+    int64_t i_, j_;
+    CellMethod method_;
+    bool onSurface_ = false;
+    std::optional<HeightFieldHit> probe_;
+};
+
+}  // namespace
 
 MapRaster shadowMask(const HeightGrid& grid, double azimuthRad, double elevationRad, CellMethod method,
                      double sunRadiusRad, int samples, int threads) {
@@ -193,28 +219,19 @@ MapRaster shadowMask(const HeightGrid& grid, double azimuthRad, double elevation
             }
     }
     return perVertex(grid, threads, [&](int64_t i, int64_t j) {
+        const VertexView vertex(grid, i, j, method);
+        if (!vertex.onSurface()) return kNaN;
         int blocked = 0;
-        if (exactAtVertices(method)) {
-            if (!vertexOnSurface(grid, i, j)) return kNaN;
-            for (const auto& d : dirs) blocked += blockedFromVertex(grid, i, j, d, method);
-        } else {
-            const auto at = vertexPoint(grid, i, j, method);
-            if (!at) return kNaN;
-            for (const auto& d : dirs) blocked += blockedFrom(grid, *at, d, method);
-        }
+        for (const auto& d : dirs) blocked += vertex.blocked(d);
         return float(double(blocked) / double(dirs.size()));
     });
 }
 
 MapRaster horizonMap(const HeightGrid& grid, double azimuthRad, CellMethod method, int threads) {
     return perVertex(grid, threads, [&](int64_t i, int64_t j) {
-        if (exactAtVertices(method)) {
-            if (!vertexOnSurface(grid, i, j)) return kNaN;
-            return float(degrees(vertexHorizonAngleRad(grid, i, j, azimuthRad, method)));
-        }
-        const auto at = vertexPoint(grid, i, j, method);
-        if (!at) return kNaN;
-        return float(degrees(horizonAngleRad(grid, *at, azimuthRad, method)));
+        const VertexView vertex(grid, i, j, method);
+        if (!vertex.onSurface()) return kNaN;
+        return float(degrees(bisectHorizon(azimuthRad, 1e-7, [&](const glm::dvec3& d) { return vertex.blocked(d); })));
     });
 }
 

@@ -32,10 +32,6 @@ double horizonAngleRad(const HeightGrid& grid, const HeightFieldHit& at, double 
 // of a valid cell.
 bool blockedFromVertex(const HeightGrid& grid, int64_t i, int64_t j, const glm::dvec3& dir, CellMethod method);
 
-// The horizon elevation angle (radians) at vertex (i, j) towards an azimuth, by bisection on blockedFromVertex.
-double vertexHorizonAngleRad(const HeightGrid& grid, int64_t i, int64_t j, double azimuthRad, CellMethod method,
-                             double toleranceRad = 1e-7);
-
 struct MapRaster {
     int64_t width = 0;
     int64_t height = 0;
