@@ -164,6 +164,10 @@ struct Walk {
     // level (0 at the cells), and whether the last cell visited lay wholly above the ray (when looking for the
     // first crossing).
     int64_t i = 0, j = 0;
+    // For a ray that runs along a grid line x = const (y = const), within 1e-9 of a cell: the column (row) on the
+    // line's other side, whose cells share the line's edges with the walk's; -1 otherwise. Where the walk's cell
+    // is a hole, that edge still belongs to the valid cell beside it.
+    int64_t altI = -1, altJ = -1;
     CellSide entry = CellSide::Interior;
     double t = 0.0;
     int level = 0;
@@ -277,6 +281,14 @@ struct Walk {
         };
         i = firstIndex(og.x, dg.x, t0, cellsX);
         j = firstIndex(og.y, dg.y, t0, cellsY);
+        auto besideLine = [](bool movesAlong, double o, int64_t k, int64_t cells) -> int64_t {
+            if (movesAlong) return -1;
+            const double line = std::round(o);
+            if (!(std::abs(o - line) <= 1e-9) || line < 1.0 || line > double(cells - 1)) return -1;
+            return k == int64_t(line) ? k - 1 : k + 1;
+        };
+        altI = besideLine(movesX, og.x, i, cellsX);
+        altJ = besideLine(movesY, og.y, j, cellsY);
         entry = CellSide::Interior;
         t = t0;
         // A ray from outside the grid's box (a camera's) starts a few levels up, where the first blocks it
@@ -371,6 +383,11 @@ struct Walk {
     __attribute__((always_inline)) Visit visitCell(int64_t ci, int64_t cj, double tEnter, double tExit, CellSide entry,
                                                    ExitSide exitSide) {
         if (counting && counters) ++counters->cellsVisited;
+        // Along a grid line, the edge the ray runs on belongs to the valid cell beside a hole too.
+        if (!g.cellValid(ci, cj)) {
+            if (altI >= 0 && g.cellValid(altI, cj)) ci = altI;
+            else if (altJ >= 0 && g.cellValid(ci, altJ)) cj = altJ;
+        }
         if (!g.cellValid(ci, cj)) {
             hasCarriedG = false;
             // A corner pass: the segment clips the hole cell by less than 1e-7 of a cell (rounding of t).

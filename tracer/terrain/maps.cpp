@@ -1,5 +1,6 @@
 #include "tracer/terrain/maps.h"
 
+#include "heightfield/horizon.h"
 #include "tracer/core/angles.h"
 
 #include "tracer/core/parallel.h"
@@ -175,7 +176,8 @@ double horizonAngleRad(const HeightGrid& grid, const HeightFieldHit& at, double 
 namespace {
 
 // A map product's question at vertex (i, j): does the terrain block a direction? From the vertex itself for
-// the methods whose surface passes through the vertices; from the surface point under the vertex for nearest.
+// the methods whose surface passes through the vertices (a horizon walk that ends at the first point above the
+// direction); from the surface point under the vertex for nearest (an occlusion walk).
 class VertexView {
 public:
     VertexView(const HeightGrid& g, int64_t i, int64_t j, CellMethod method) : g_(g), i_(i), j_(j), method_(method) {
@@ -188,8 +190,11 @@ public:
     }
     // False for a vertex that is a corner of no valid cell: the map has no value there.
     bool onSurface() const { return onSurface_; }
-    bool blocked(const glm::dvec3& dir) const {
-        return probe_ ? blockedFrom(g_, *probe_, dir, method_) : blockedFromVertex(g_, i_, j_, dir, method_);
+    bool blocked(const glm::dvec3& dir, const HorizonSearch& search = {}) const {
+        if (probe_) return blockedFrom(g_, *probe_, dir, method_);
+        const double across = std::hypot(dir.x, dir.y);
+        if (!(across > 0.0)) return dir.z <= 0.0;  // straight up is free; straight down is into the ground
+        return horizonAbove(g_, i_, j_, dir.x, dir.y, dir.z / across, method_, search);
     }
 
 private:
@@ -203,7 +208,7 @@ private:
 }  // namespace
 
 MapRaster shadowMask(const HeightGrid& grid, double azimuthRad, double elevationRad, CellMethod method,
-                     double sunRadiusRad, int samples, int threads) {
+                     double sunRadiusRad, int samples, int threads, const HorizonSearch& search) {
     const glm::dvec3 centre = directionFromRadians(azimuthRad, elevationRad);
     std::vector<glm::dvec3> dirs{centre};
     if (sunRadiusRad > 0.0) {
@@ -222,16 +227,23 @@ MapRaster shadowMask(const HeightGrid& grid, double azimuthRad, double elevation
         const VertexView vertex(grid, i, j, method);
         if (!vertex.onSurface()) return kNaN;
         int blocked = 0;
-        for (const auto& d : dirs) blocked += vertex.blocked(d);
+        for (const auto& d : dirs) blocked += vertex.blocked(d, search);
         return float(double(blocked) / double(dirs.size()));
     });
 }
 
-MapRaster horizonMap(const HeightGrid& grid, double azimuthRad, CellMethod method, int threads) {
+MapRaster horizonMap(const HeightGrid& grid, double azimuthRad, CellMethod method, int threads,
+                     const HorizonSearch& search) {
+    const double dirX = std::sin(azimuthRad), dirY = std::cos(azimuthRad);
     return perVertex(grid, threads, [&](int64_t i, int64_t j) {
-        const VertexView vertex(grid, i, j, method);
-        if (!vertex.onSurface()) return kNaN;
-        return float(degrees(bisectHorizon(azimuthRad, 1e-7, [&](const glm::dvec3& d) { return vertex.blocked(d); })));
+        if (!exactAtVertices(method)) {
+            // Nearest has no surface at the vertex: bisection over occlusion from the surface point under it.
+            const VertexView vertex(grid, i, j, method);
+            if (!vertex.onSurface()) return kNaN;
+            return float(degrees(bisectHorizon(azimuthRad, 1e-7, [&](const glm::dvec3& d) { return vertex.blocked(d); })));
+        }
+        if (!vertexOnSurface(grid, i, j)) return kNaN;
+        return float(degrees(std::atan(horizonTangent(grid, i, j, dirX, dirY, method, search))));
     });
 }
 

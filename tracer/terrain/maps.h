@@ -3,6 +3,7 @@
 #pragma once
 
 #include "heightfield/height_grid.h"
+#include "heightfield/horizon.h"
 #include "heightfield/traversal.h"
 #include "tracer/terrain/terrain_renderer.h"
 
@@ -40,12 +41,16 @@ struct MapRaster {
 
 // Per vertex: 1 where the sun (a direction) is blocked by terrain, 0 where visible, NaN on nodata. With
 // `sunRadiusRad` > 0 the sun is a disc sampled by `samples` stratified directions and the value is the
-// blocked fraction.
+// blocked fraction. A direction is blocked when the vertex's horizon that way lies above it (horizonAbove,
+// with `search`'s radius and curvature); nearest asks an occlusion walk from the surface point under the vertex.
 MapRaster shadowMask(const HeightGrid& grid, double azimuthRad, double elevationRad, CellMethod method,
-                     double sunRadiusRad = 0.0, int samples = 16, int threads = 0);
+                     double sunRadiusRad = 0.0, int samples = 16, int threads = 0, const HorizonSearch& search = {});
 
-// Per vertex: the horizon angle in degrees towards an azimuth; NaN on nodata.
-MapRaster horizonMap(const HeightGrid& grid, double azimuthRad, CellMethod method, int threads = 0);
+// Per vertex: the horizon angle in degrees towards an azimuth; NaN on nodata, -90 where no surface lies that
+// way. Exact for the methods through the vertices (one horizon walk per vertex, heightfield/horizon.h); for
+// nearest, bisection over occlusion tests from the surface point under the vertex (ignoring `search`).
+MapRaster horizonMap(const HeightGrid& grid, double azimuthRad, CellMethod method, int threads = 0,
+                     const HorizonSearch& search = {});
 
 // Observer and target settings of a viewshed.
 struct ViewshedSettings {

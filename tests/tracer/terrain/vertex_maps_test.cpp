@@ -171,3 +171,37 @@ TEST_CASE("Vertex maps: horizons agree with a brute-force march over a real DEM'
     CHECK(off == 0);
     }
 }
+
+TEST_CASE("Vertex maps: occlusion walks and horizon walks agree at every vertex", "[tracer][maps]") {
+    // Two different traversals answer the same question: a direction from a vertex is blocked (the occlusion walk
+    // of blockedFromVertex) exactly when it lies below the vertex's horizon (the horizon walk of horizonMap). On
+    // two real DEMs with holes, along the axes (grid lines beside holes) and at azimuths off the axes. (Not at an
+    // exact cell diagonal: there the occlusion walk ignores a vertex the line passes through when the cells the
+    // line crosses on both sides of it are holes, which the horizon walk counts.)
+    for (const char* name : {"landfire-storm-lake-mt-utm12n-int16-small-nodata.tif", "usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif"}) {
+        const LoadedDem dem = loadDem(std::string(TERRACAST_SOURCE_DIR) + "/data-samples/" + name);
+        const HeightGrid& g = dem.grid;
+        for (CellMethod method : {CellMethod::Bilinear, CellMethod::Triangles})
+            for (double az : {0.0, 90.0, 180.0, 270.0, 44.0, 222.5}) {
+                const MapRaster horizon = horizonMap(g, radians(az), method);
+                for (double el : {2.0, 12.0, 25.0}) {
+                    int64_t compared = 0, disagree = 0;
+                    std::string where;
+                    for (int64_t j = 0; j < g.height(); ++j)
+                        for (int64_t i = 0; i < g.width(); ++i) {
+                            const float hz = valueAt(horizon, i, j);
+                            if (std::isnan(hz) || std::abs(double(hz) - el) < 1e-5) continue;
+                            ++compared;
+                            const bool blocked = blockedFromVertex(g, i, j, directionFromDegrees(az, el), method);
+                            if (blocked != (double(hz) > el) && ++disagree <= 5)
+                                where += " vertex " + std::to_string(i) + "," + std::to_string(j) + " horizon " +
+                                         std::to_string(hz) + " blocked " + std::to_string(blocked) + ";";
+                        }
+                    INFO(name << " " << cellMethodName(method) << " azimuth " << az << " sun " << el << ": " << disagree
+                              << " of " << compared << where);
+                    CHECK(compared > 10000);
+                    CHECK(disagree == 0);
+                }
+            }
+    }
+}

@@ -1,0 +1,241 @@
+#include "heightfield/horizon.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace terracast {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// One horizon walk. The line runs through grid coordinates u(t) = i + t du, v(t) = j + t dv (vertex indices),
+// t in horizontal metres; a point at distance t and height h has the slope (h - z0 - k t^2) / t.
+class HorizonWalk {
+public:
+    HorizonWalk(const HeightGrid& g, int64_t i, int64_t j, double du, double dv, bool triangles, const HorizonSearch& s,
+                double floor)
+        : g_(g), i_(i), j_(j), du_(du), dv_(dv), z0_(g.at(i, j)), k_(s.dropPerSquareM), triangles_(triangles),
+          best_(floor) {}
+
+    double best() const { return best_; }
+
+    // The exit parameter of cell column ci (row cj) along x (y): where the line crosses the cell's far grid line.
+    double exitX(int64_t ci) const {
+        if (du_ > 0.0) return double(ci + 1 - i_) / du_;
+        if (du_ < 0.0) return double(ci - i_) / du_;
+        return kInf;
+    }
+    double exitY(int64_t cj) const {
+        if (dv_ > 0.0) return double(cj + 1 - j_) / dv_;
+        if (dv_ < 0.0) return double(cj - j_) / dv_;
+        return kInf;
+    }
+
+    // The point at distance t with surface height h.
+    void consider(double t, double h) { best_ = std::max(best_, (h - z0_ - k_ * t * t) / t); }
+
+    // A stretch [ta, tb] over which the surface height along the line is h(t) = hA + slope (t - ta) + c (t - ta)^2,
+    // evaluated exactly by `at`. The slope's supremum over the stretch is at an end or where its derivative
+    // vanishes: with H(t) = alpha + beta t + gamma t^2 the surface less the vertex and the drop, d(H / t) / dt = 0
+    // at t^2 = alpha / gamma. At ta = 0 (the vertex itself, hA = z0) the limit is the slope in t.
+    template <class At>
+    void stretch(double ta, double tb, double hA, double slope, double c, At&& at) {
+        if (ta > 0.0) consider(ta, hA);
+        else best_ = std::max(best_, slope);
+        consider(tb, at(tb));
+        const double alpha = hA - z0_ - slope * ta + c * ta * ta, gamma = c - k_;
+        if (gamma != 0.0) {
+            const double r = alpha / gamma;
+            if (r > 0.0) {
+                const double ts = std::sqrt(r);
+                if (ts > ta && ts < tb) consider(ts, at(ts));
+            }
+        }
+    }
+
+    // The surface of cell (ci, cj) over [ta, tb] (tb > ta). Along a grid line (du or dv zero) the surface is the
+    // edge between the line's two vertices, linear in both methods.
+    void solveCell(int64_t ci, int64_t cj, double ta, double tb) {
+        if (du_ == 0.0 || dv_ == 0.0) {
+            // The edge's vertices: (i, cj) to (i, cj + 1) along a north-south line, (ci, j) to (ci + 1, j) east-west.
+            const bool northSouth = du_ == 0.0;
+            const double hLo = northSouth ? g_.at(i_, cj) : g_.at(ci, j_);
+            const double hHi = northSouth ? g_.at(i_, cj + 1) : g_.at(ci + 1, j_);
+            const double s0 = northSouth ? double(j_ - cj) : double(i_ - ci), ds = northSouth ? dv_ : du_;
+            auto at = [&](double t) { return hLo + (hHi - hLo) * std::clamp(s0 + t * ds, 0.0, 1.0); };
+            stretch(ta, tb, at(ta), (hHi - hLo) * ds, 0.0, at);
+            return;
+        }
+        const double h00 = g_.at(ci, cj), h10 = g_.at(ci + 1, cj), h01 = g_.at(ci, cj + 1), h11 = g_.at(ci + 1, cj + 1);
+        const double u0 = double(i_ - ci), v0 = double(j_ - cj);  // the vertex in the cell's frame
+        auto uAt = [&](double t) { return std::clamp(u0 + t * du_, 0.0, 1.0); };
+        auto vAt = [&](double t) { return std::clamp(v0 + t * dv_, 0.0, 1.0); };
+        if (!triangles_) {
+            // h = a + b u + c v + d u v (docs/architecture.md, "Cell intersectors"); along the line it is quadratic
+            // in t with second-order coefficient d du dv.
+            const double b = h10 - h00, c = h01 - h00, d = h00 - h10 - h01 + h11;
+            auto at = [&](double t) {
+                const double u = uAt(t), v = vAt(t);
+                return h00 + b * u + c * v + d * u * v;
+            };
+            const double ua = uAt(ta), va = vAt(ta);
+            stretch(ta, tb, at(ta), (b + d * va) * du_ + (c + d * ua) * dv_, d * du_ * dv_, at);
+            return;
+        }
+        // Two planes split by the diagonal u + v = 1 (from (1, 0) to (0, 1)); the line crosses it at most once.
+        auto lower = [&](double t) { return h00 + (h10 - h00) * uAt(t) + (h01 - h00) * vAt(t); };
+        auto upper = [&](double t) { return h11 + (h11 - h01) * (uAt(t) - 1.0) + (h11 - h10) * (vAt(t) - 1.0); };
+        const double lowerSlope = (h10 - h00) * du_ + (h01 - h00) * dv_;
+        const double upperSlope = (h11 - h01) * du_ + (h11 - h10) * dv_;
+        double tDiag = kInf;
+        if (du_ + dv_ != 0.0) tDiag = (1.0 - u0 - v0) / (du_ + dv_);
+        auto piece = [&](double a, double b) {
+            const double mid = 0.5 * (a + b);
+            if (uAt(mid) + vAt(mid) < 1.0) stretch(a, b, lower(a), lowerSlope, 0.0, lower);
+            else stretch(a, b, upper(a), upperSlope, 0.0, upper);
+        };
+        if (tDiag > ta && tDiag < tb) {
+            piece(ta, tDiag);
+            piece(tDiag, tb);
+        } else {
+            piece(ta, tb);
+        }
+    }
+
+private:
+    const HeightGrid& g_;
+    int64_t i_, j_;
+    double du_, dv_;
+    double z0_, k_;
+    bool triangles_;
+    double best_;
+};
+
+// The walk behind horizonTangent and horizonAbove: the supremum of the slopes, or `floor` when none exceeds it;
+// with `stopAbove`, it ends as soon as one does.
+double walkHorizon(const HeightGrid& g, int64_t i, int64_t j, double dirX, double dirY, CellMethod method,
+                   const HorizonSearch& search, HorizonCounters* counters, double floor, bool stopAbove) {
+    if (method == CellMethod::Nearest) throw GridError("the horizon walk needs a surface through the vertices, not nearest");
+    const double norm = std::hypot(dirX, dirY);
+    if (!(norm > 0.0)) return floor;
+    double du = dirX / norm / g.cellSizeXM(), dv = dirY / norm / g.cellSizeYM();
+    // A direction within rounding of a grid line (azimuth 90 gives cos(pi / 2), about 6e-17, for y) runs along it.
+    if (std::abs(du) < 1e-12 * std::abs(dv)) du = 0.0;
+    if (std::abs(dv) < 1e-12 * std::abs(du)) dv = 0.0;
+    HorizonWalk walk(g, i, j, du, dv, method == CellMethod::Triangles, search, floor);
+
+    // The cell the line leaves the vertex over; along a grid line, the column (row) on the line's east (north)
+    // side, or its west (south) side on the grid's last line, standing for both.
+    const int64_t nx = g.cellsX(), ny = g.cellsY();
+    int64_t ci = du > 0.0 ? i : du < 0.0 ? i - 1 : std::min(i, nx - 1);
+    int64_t cj = dv > 0.0 ? j : dv < 0.0 ? j - 1 : std::min(j, ny - 1);
+    const int64_t stepI = du > 0.0 ? 1 : du < 0.0 ? -1 : 0, stepJ = dv > 0.0 ? 1 : dv < 0.0 ? -1 : 0;
+    auto inGrid = [&](int64_t a, int64_t b) { return a >= 0 && b >= 0 && a < nx && b < ny; };
+    // Along a grid line a stretch has surface when the cell on either side is valid.
+    auto hasSurface = [&](int64_t a, int64_t b) {
+        if (g.cellValid(a, b)) return true;
+        if (du == 0.0 && i > 0 && i < nx && a == i) return g.cellValid(i - 1, b);
+        if (dv == 0.0 && j > 0 && j < ny && b == j) return g.cellValid(a, j - 1);
+        return false;
+    };
+    // Where the line leaves the grid (or the search radius).
+    const double tEnd = std::min(search.maxDistanceM, std::min(du > 0.0   ? double(nx - i) / du
+                                                               : du < 0.0 ? double(-i) / du
+                                                                          : kInf,
+                                                               dv > 0.0   ? double(ny - j) / dv
+                                                               : dv < 0.0 ? double(-j) / dv
+                                                                          : kInf));
+    const double k = search.dropPerSquareM;
+    const double z0 = g.at(i, j), top = g.maxHeightM();
+    const auto pyramid = g.pyramidView();
+    const int levels = g.pyramidLevels();
+    // Nothing over [t, tFar] with heights up to `bound` can raise the horizon: every point there is at least t
+    // away (and dropped by k t^2 at least), at most tFar away.
+    auto cannotRaise = [&](double bound, double t, double tFar) {
+        const double b = walk.best();
+        return bound - z0 - k * t * t <= b * (b >= 0.0 ? t : tFar);
+    };
+    double t = 0.0;
+    int level = 0;
+    int64_t visited = 0, skipped = 0;
+    while (inGrid(ci, cj) && t < tEnd) {
+        if (t > 0.0) {
+            if (cannotRaise(top, t, tEnd)) break;
+            // The largest block around the cell (at most one level above the last) that cannot raise the horizon.
+            bool skip = false;
+            double tOut = 0.0;
+            int lv = std::min(level + 1, levels);
+            for (; lv >= 1; --lv) {
+                const int64_t bi = ci >> lv, bj = cj >> lv;
+                const double txb = du > 0.0 ? double(((bi + 1) << lv) - i) / du : du < 0.0 ? double((bi << lv) - i) / du : kInf;
+                const double tyb = dv > 0.0 ? double(((bj + 1) << lv) - j) / dv : dv < 0.0 ? double((bj << lv) - j) / dv : kInf;
+                tOut = std::min(txb, tyb);
+                if (tOut > t && cannotRaise(pyramid.blockMaxM(lv, bi, bj), t, std::min(tOut, tEnd))) {
+                    skip = true;
+                    // The cell the line is in just past the block: across the side it leaves by, and along the
+                    // other axis the one whose stretch holds tOut (from the same exit parameters as a cell step).
+                    if (txb <= tyb) ci = du > 0.0 ? (bi + 1) << lv : (bi << lv) - 1;
+                    else if (du != 0.0) {
+                        ci = std::clamp<int64_t>(int64_t(std::floor(double(i) + tOut * du)), bi << lv, ((bi + 1) << lv) - 1);
+                        while (walk.exitX(ci) <= tOut) ci += stepI;
+                        while (walk.exitX(ci - stepI) > tOut) ci -= stepI;
+                    }
+                    if (tyb <= txb) cj = dv > 0.0 ? (bj + 1) << lv : (bj << lv) - 1;
+                    else if (dv != 0.0) {
+                        cj = std::clamp<int64_t>(int64_t(std::floor(double(j) + tOut * dv)), bj << lv, ((bj + 1) << lv) - 1);
+                        while (walk.exitY(cj) <= tOut) cj += stepJ;
+                        while (walk.exitY(cj - stepJ) > tOut) cj -= stepJ;
+                    }
+                    break;
+                }
+            }
+            if (skip) {
+                ++skipped;
+                level = lv;
+                t = tOut;
+                continue;
+            }
+            level = 0;
+        }
+        const double tx = walk.exitX(ci), ty = walk.exitY(cj);
+        const double tNext = std::min(tx, ty);
+        if (hasSurface(ci, cj)) {
+            walk.solveCell(ci, cj, t, std::min(tNext, tEnd));
+            ++visited;
+        }
+        if (std::abs(tx - ty) * (std::abs(du) + std::abs(dv)) <= 1e-9 && tNext <= tEnd) {
+            // Through a corner, or within 1e-9 of a cell of it (a diagonal azimuth whose sine and cosine differ in
+            // the last bit): the vertex counts when any of its four cells is valid, though the line may cross only
+            // holes or the sliver of a cell beside it.
+            const int64_t vi = du > 0.0 ? ci + 1 : ci, vj = dv > 0.0 ? cj + 1 : cj;
+            bool onSurface = false;
+            for (int64_t b = vj - 1; b <= vj && !onSurface; ++b)
+                for (int64_t a = vi - 1; a <= vi && !onSurface; ++a) onSurface = inGrid(a, b) && g.cellValid(a, b);
+            if (onSurface) walk.consider(tNext, g.at(vi, vj));
+        }
+        if (stopAbove && walk.best() > floor) break;
+        if (tx <= ty) ci += stepI;
+        if (ty <= tx) cj += stepJ;
+        t = tNext;
+    }
+    if (counters) {
+        counters->cellsVisited += visited;
+        counters->blocksSkipped += skipped;
+    }
+    return walk.best();
+}
+
+}  // namespace
+
+double horizonTangent(const HeightGrid& g, int64_t i, int64_t j, double dirX, double dirY, CellMethod method,
+                      const HorizonSearch& search, HorizonCounters* counters) {
+    return walkHorizon(g, i, j, dirX, dirY, method, search, counters, -kInf, false);
+}
+
+bool horizonAbove(const HeightGrid& g, int64_t i, int64_t j, double dirX, double dirY, double tangent,
+                  CellMethod method, const HorizonSearch& search, HorizonCounters* counters) {
+    return walkHorizon(g, i, j, dirX, dirY, method, search, counters, tangent, true) > tangent;
+}
+
+}  // namespace terracast

@@ -1,0 +1,167 @@
+// The horizon walk against answers it does not compute itself: a ridge's geometry, and a dense march over the
+// surface (interpolated here, from the four corners) on fractal terrain with holes, for both surfaces, with
+// and without a search radius and earth curvature.
+#include "heightfield/fractal_terrain.h"
+#include "heightfield/horizon.h"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+using namespace terracast;
+
+namespace {
+
+constexpr double kPiHere = 3.14159265358979323846;
+
+double deg(double tangent) { return std::atan(tangent) * 180.0 / kPiHere; }
+
+// The surface at grid coordinates (u, v) (vertex indices), or NaN over holes; on a grid line or a vertex,
+// any valid cell touching the point gives it.
+double surfaceAt(const HeightGrid& g, double u, double v, bool triangles) {
+    const int64_t iu = int64_t(std::floor(u)), iv = int64_t(std::floor(v));
+    for (int64_t cj : {iv, iv - 1})
+        for (int64_t ci : {iu, iu - 1}) {
+            if (ci < 0 || cj < 0 || ci >= g.cellsX() || cj >= g.cellsY() || !g.cellValid(ci, cj)) continue;
+            const double fu = u - double(ci), fv = v - double(cj);
+            if (fu < 0.0 || fu > 1.0 || fv < 0.0 || fv > 1.0) continue;
+            const double h00 = g.at(ci, cj), h10 = g.at(ci + 1, cj), h01 = g.at(ci, cj + 1), h11 = g.at(ci + 1, cj + 1);
+            if (!triangles)
+                return (1 - fu) * (1 - fv) * h00 + fu * (1 - fv) * h10 + (1 - fu) * fv * h01 + fu * fv * h11;
+            if (fu + fv <= 1.0) return h00 + (h10 - h00) * fu + (h01 - h00) * fv;
+            return h11 + (h11 - h01) * (fu - 1.0) + (h11 - h10) * (fv - 1.0);
+        }
+    return std::nan("");
+}
+
+// The largest slope from vertex (i, j) to surface points along (dirX, dirY): sampled every 1/4000 of a cell
+// (and from a millionth of a cell on, for the slope at the vertex), and where the line crosses the lines
+// u = m, v = m and u + v = m, on which the surfaces have their kinks, and at the search radius. A lower bound of the exact supremum.
+double marchTangent(const HeightGrid& g, int64_t i, int64_t j, double dirX, double dirY, bool triangles,
+                    const HorizonSearch& s) {
+    const double n = std::hypot(dirX, dirY);
+    const double eu = dirX / n / g.cellSizeXM(), ev = dirY / n / g.cellSizeYM();  // cells per metre
+    const double z0 = g.at(i, j), cell = std::min(g.cellSizeXM(), g.cellSizeYM());
+    std::vector<double> ts;
+    for (double t = 1e-6 * cell; t < 1e-3 * cell; t *= 10.0) ts.push_back(t);
+    const double span = std::hypot(g.extentXM(), g.extentYM());
+    for (double t = 1e-3 * cell; t <= span; t += cell / 4000.0) ts.push_back(t);
+    if (std::isfinite(s.maxDistanceM)) ts.push_back(s.maxDistanceM);  // the search radius ends a stretch too
+    for (int64_t m = -100; m <= 100; ++m) {
+        if (eu != 0.0) ts.push_back((double(m) - double(i)) / eu);
+        if (ev != 0.0) ts.push_back((double(m) - double(j)) / ev);
+        if (eu + ev != 0.0) ts.push_back((double(m) - double(i) - double(j)) / (eu + ev));
+    }
+    double best = -std::numeric_limits<double>::infinity();
+    for (double t : ts) {
+        if (!(t > 0.0) || t > s.maxDistanceM) continue;
+        double u = double(i) + t * eu, v = double(j) + t * ev;
+        // Along an axis the other coordinate stays exactly on its grid line.
+        if (std::abs(eu) < 1e-12 * std::abs(ev)) u = double(i);
+        if (std::abs(ev) < 1e-12 * std::abs(eu)) v = double(j);
+        if (u < -1e-9 || v < -1e-9 || u > double(g.cellsX()) + 1e-9 || v > double(g.cellsY()) + 1e-9) continue;
+        const double h = surfaceAt(g, std::clamp(u, 0.0, double(g.cellsX())), std::clamp(v, 0.0, double(g.cellsY())), triangles);
+        if (!std::isnan(h)) best = std::max(best, (h - z0 - s.dropPerSquareM * t * t) / t);
+    }
+    return best;
+}
+
+}  // namespace
+
+TEST_CASE("Horizon walk: a ridge's horizon is its crest's elevation angle at any azimuth", "[heightfield][horizon]") {
+    // A north-south ridge on flat ground: 0 m up to x = 10 cells, rising 8 m per cell to 40 m at x = 15, falling
+    // back to 0 at x = 20. Heights vary along x only, so both surfaces are the same piecewise-linear ridge.
+    const int64_t w = 31, h = 81;
+    const double cx = 20.0, cy = 12.5;
+    std::vector<float> z(size_t(w * h));
+    for (int64_t j = 0; j < h; ++j)
+        for (int64_t i = 0; i < w; ++i) z[size_t(j * w + i)] = float(std::max<int64_t>(0, 40 - 8 * std::abs(i - 15)));
+    const HeightGrid g(w, h, cx, cy, z);
+    for (CellMethod method : {CellMethod::Bilinear, CellMethod::Triangles}) {
+        for (double az : {90.0, 60.0, 120.0, 45.0, 135.0, 77.3}) {
+            INFO(cellMethodName(method) << " azimuth " << az);
+            const double a = az * kPiHere / 180.0;
+            // From vertex (4, 40) on the flat, the crest is (15 - 4) cells east, 11 * 20 / sin(az) metres away along
+            // the azimuth, as long as the line reaches it inside the grid.
+            const double dist = 11.0 * cx / std::sin(a);
+            const double expected = deg(40.0 / dist);
+            CHECK(deg(horizonTangent(g, 4, 40, std::sin(a), std::cos(a), method)) == Approx(expected).margin(1e-9));
+            // From the crest's foot on the far side, looking back west over it.
+            const double back = (az + 180.0) * kPiHere / 180.0;
+            CHECK(deg(horizonTangent(g, 26, 40, std::sin(back), std::cos(back), method)) ==
+                  Approx(deg(40.0 / (11.0 * cx / std::sin(a)))).margin(1e-9));
+        }
+        // Looking away from the ridge over flat ground, the horizon is flat; off the grid's west edge there is none.
+        CHECK(horizonTangent(g, 4, 40, -1.0, 0.3, method) == 0.0);
+        CHECK(horizonTangent(g, 0, 40, -1.0, 0.0, method) == -std::numeric_limits<double>::infinity());
+        // Up the face from its foot, along the axis: the face's own slope (8 m per 20 m), seen at the start.
+        CHECK(horizonTangent(g, 10, 40, 1.0, 0.0, method) == Approx(0.4).epsilon(1e-12));
+        // A search radius short of the crest sees only the face below it: from x = 4, 8 cells east is 16 m high.
+        HorizonSearch near;
+        near.maxDistanceM = 8.0 * cx;
+        CHECK(horizonTangent(g, 4, 40, 1.0, 0.0, method, near) == Approx(16.0 / (8.0 * cx)).epsilon(1e-12));
+        // Curvature lowers the crest by k d^2 (the slope to the face, 0.4 - 48 / d - k d, still grows up to it).
+        HorizonSearch curved;
+        curved.dropPerSquareM = 1e-4;
+        CHECK(horizonTangent(g, 4, 40, 1.0, 0.0, method, curved) ==
+              Approx((40.0 - 1e-4 * 220.0 * 220.0) / 220.0).epsilon(1e-12));
+    }
+}
+
+TEST_CASE("Horizon walk: the exact supremum of a dense march over fractal terrain with holes", "[heightfield][horizon]") {
+    // 33 x 33 vertices of rugged terrain, cells of 30 x 21 m, with nodata patches: lines run over holes, along
+    // grid lines beside them and through vertices between them.
+    HeightGrid base = fractalTerrain({.size = 33, .seed = 5, .cellSizeM = 30.0, .offsetAt1KmM = 600.0});
+    std::vector<float> z = base.copyHeights();
+    std::vector<uint8_t> valid(z.size(), 1);
+    std::mt19937_64 rng(11);
+    std::uniform_int_distribution<int64_t> V(1, 31);
+    for (int k = 0; k < 8; ++k) {
+        const int64_t ci = V(rng), cj = V(rng);
+        valid[size_t(cj * 33 + ci)] = 0;
+        if (k % 2) valid[size_t(cj * 33 + ci + 1)] = 0;  // holes two cells wide too
+    }
+    const HeightGrid g(33, 33, 30.0, 21.0, z, valid);
+    std::uniform_int_distribution<int64_t> I(0, 32);
+    std::uniform_real_distribution<double> A(0.0, 360.0);
+    HorizonSearch far, near, curved;
+    near.maxDistanceM = 250.0;
+    curved.dropPerSquareM = 0.02;  // strong enough to bend within the grid
+    int64_t compared = 0;
+    double worst = 0.0;
+    for (CellMethod method : {CellMethod::Bilinear, CellMethod::Triangles}) {
+        const bool triangles = method == CellMethod::Triangles;
+        for (int k = 0; k < 90; ++k) {
+            int64_t i = I(rng), j = I(rng);
+            // The axes and the cells' diagonal (21 / 30) besides random azimuths.
+            const double azimuths[] = {0.0, 90.0, 180.0, 270.0, std::atan2(30.0, 21.0) * 180.0 / kPiHere, A(rng)};
+            const double az = azimuths[k % 6];
+            bool onSurface = false;
+            for (int64_t b = j - 1; b <= j; ++b)
+                for (int64_t a = i - 1; a <= i; ++a)
+                    onSurface = onSurface || (a >= 0 && b >= 0 && a < 32 && b < 32 && g.cellValid(a, b));
+            if (!onSurface) continue;
+            const double dx = std::sin(az * kPiHere / 180.0), dy = std::cos(az * kPiHere / 180.0);
+            for (const HorizonSearch* s : {&far, &near, &curved}) {
+                const double walk = horizonTangent(g, i, j, dx, dy, method, *s);
+                const double march = marchTangent(g, i, j, dx, dy, triangles, *s);
+                INFO(cellMethodName(method) << " vertex " << i << "," << j << " azimuth " << az << " radius "
+                                            << s->maxDistanceM << " drop " << s->dropPerSquareM);
+                if (std::isinf(march)) {
+                    CHECK(walk == march);
+                    continue;
+                }
+                // The march is a lower bound (up to the rounding of h - z0 over its first, micro-cell steps) and
+                // comes within 1e-4 degrees of the supremum.
+                CHECK(deg(walk) >= deg(march) - 1e-6);
+                CHECK(deg(walk) - deg(march) < 1e-4);
+                worst = std::max(worst, deg(walk) - deg(march));
+                ++compared;
+            }
+        }
+    }
+    INFO(compared << " compared, worst " << worst << " degrees");
+    CHECK(compared > 300);
+}
