@@ -15,6 +15,13 @@ void addThreadsAndMethod(CLI::App& cmd, int& threads, std::string& method) {
     cmd.add_option("--threads", threads, "Worker threads, 0 = all cores")->check(CLI::NonNegativeNumber);
 }
 
+void addSearchOptions(CLI::App& cmd, double& maxDistanceM, double& curvatureCoeff, const char* distanceHelp) {
+    cmd.add_option("--max-distance", maxDistanceM, distanceHelp);
+    cmd.add_option("--curvature-coeff", curvatureCoeff,
+                   "Earth curvature less refraction, as viewshed's (0.85714 for standard refraction; default 0: "
+                   "flat earth)");
+}
+
 }  // namespace
 
 void addMapCommands(CLI::App& app, Commands& commands) {
@@ -30,6 +37,8 @@ void addMapCommands(CLI::App& app, Commands& commands) {
         cmd->add_option("--sun", t->sun, "Sun azimuth,elevation in degrees (default 315,35)");
         cmd->add_option("--sun-size", t->options.sunSizeDeg,
                         "Sun's angular diameter in degrees; > 0 gives the blocked fraction (default 0: a point)");
+        addSearchOptions(*cmd, t->options.maxDistanceM, t->options.curvatureCoeff,
+                         "Metres beyond which terrain casts no shadow (default 0: the whole DEM)");
         addThreadsAndMethod(*cmd, t->options.threads, t->method);
         commands.push_back({cmd, [t] {
                                 return guarded([&] {
@@ -42,19 +51,53 @@ void addMapCommands(CLI::App& app, Commands& commands) {
     {
         struct Texts {
             HorizonMapOptions options;
+            double azimuth = 0.0;
+            std::string azimuths, method = "bilinear";
+        };
+        auto t = std::make_shared<Texts>();
+        auto* cmd = app.add_subcommand(
+            "horizon", "Horizon elevation angle in degrees per DEM vertex towards an azimuth (or one band per azimuth)");
+        addDemOptions(*cmd, t->options.dem);
+        cmd->add_option("-o,--output", t->options.output, "Output GeoTIFF (.tif) on the DEM's grid")->required();
+        auto* one = cmd->add_option("--azimuth", t->azimuth, "Azimuth in degrees clockwise from north");
+        auto* many = cmd->add_option("--azimuths", t->azimuths,
+                                     "START:END:STEP in degrees, END excluded: one band per azimuth, in one pass "
+                                     "(e.g. 0:360:15)");
+        one->excludes(many);
+        many->excludes(one);
+        addSearchOptions(*cmd, t->options.maxDistanceM, t->options.curvatureCoeff,
+                         "Search radius in metres (default 0: the whole DEM)");
+        addThreadsAndMethod(*cmd, t->options.threads, t->method);
+        commands.push_back({cmd, [t, one] {
+                                return guarded([&] {
+                                    if (one->count() == 0 && t->azimuths.empty())
+                                        throw InputError("horizon: give --azimuth DEGREES or --azimuths START:END:STEP");
+                                    t->options.azimuthsDeg = one->count() > 0
+                                                                 ? std::vector<double>{t->azimuth}
+                                                                 : parseAzimuthRange(t->azimuths, "--azimuths");
+                                    t->options.method = parseMethodOption(t->method);
+                                    writeHorizonMap(t->options, ConsoleListener(false).listener());
+                                });
+                            }});
+    }
+    {
+        struct Texts {
+            SkyViewMapOptions options;
             std::string method = "bilinear";
         };
         auto t = std::make_shared<Texts>();
-        auto* cmd =
-            app.add_subcommand("horizon", "Horizon elevation angle in degrees per DEM vertex towards an azimuth");
+        auto* cmd = app.add_subcommand("svf", "Sky-view factor, positive and negative openness per DEM vertex "
+                                              "(three bands), from exact horizons");
         addDemOptions(*cmd, t->options.dem);
         cmd->add_option("-o,--output", t->options.output, "Output GeoTIFF (.tif) on the DEM's grid")->required();
-        cmd->add_option("--azimuth", t->options.azimuthDeg, "Azimuth in degrees clockwise from north")->required();
+        cmd->add_option("--directions", t->options.directions, "Azimuths, evenly spaced from north (default 16)");
+        addSearchOptions(*cmd, t->options.maxDistanceM, t->options.curvatureCoeff,
+                         "Search radius in metres (default 0: 10 cells)");
         addThreadsAndMethod(*cmd, t->options.threads, t->method);
         commands.push_back({cmd, [t] {
                                 return guarded([&] {
                                     t->options.method = parseMethodOption(t->method);
-                                    writeHorizonMap(t->options, ConsoleListener(false).listener());
+                                    writeSkyViewMap(t->options, ConsoleListener(false).listener());
                                 });
                             }});
     }

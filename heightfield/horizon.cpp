@@ -15,25 +15,31 @@ class HorizonWalk {
 public:
     HorizonWalk(const HeightGrid& g, int64_t i, int64_t j, double du, double dv, bool triangles, const HorizonSearch& s,
                 double floor)
-        : g_(g), i_(i), j_(j), du_(du), dv_(dv), z0_(g.at(i, j)), k_(s.dropPerSquareM), triangles_(triangles),
-          best_(floor) {}
+        : g_(g), i_(i), j_(j), du_(du), dv_(dv), invDu_(du != 0.0 ? 1.0 / du : 0.0), invDv_(dv != 0.0 ? 1.0 / dv : 0.0),
+          z0_(g.at(i, j)), k_(s.dropPerSquareM), triangles_(triangles), best_(floor) {}
 
     double best() const { return best_; }
 
-    // The exit parameter of cell column ci (row cj) along x (y): where the line crosses the cell's far grid line.
-    double exitX(int64_t ci) const {
-        if (du_ > 0.0) return double(ci + 1 - i_) / du_;
-        if (du_ < 0.0) return double(ci - i_) / du_;
-        return kInf;
-    }
-    double exitY(int64_t cj) const {
-        if (dv_ > 0.0) return double(cj + 1 - j_) / dv_;
-        if (dv_ < 0.0) return double(cj - j_) / dv_;
-        return kInf;
+    // The parameter at which the line crosses the grid line x = c (y = c), through the reciprocal: every crossing
+    // comes from these two functions, so the walk's steps and block exits agree on the order of crossings.
+    double atX(int64_t c) const { return du_ != 0.0 ? double(c - i_) * invDu_ : kInf; }
+    double atY(int64_t c) const { return dv_ != 0.0 ? double(c - j_) * invDv_ : kInf; }
+    // The exit parameter of cell column ci (row cj): where the line crosses the cell's far grid line.
+    double exitX(int64_t ci) const { return atX(du_ > 0.0 ? ci + 1 : ci); }
+    double exitY(int64_t cj) const { return atY(dv_ > 0.0 ? cj + 1 : cj); }
+
+    // False when no point between distances t > 0 and tFar with a height up to `bound` can raise the horizon: each
+    // is at least t away, at most tFar, and dropped by at least k t^2 (k tFar^2 for a negative k).
+    bool canRaise(double bound, double t, double tFar) const {
+        const double d = k_ >= 0.0 ? t : tFar;
+        return bound - z0_ - k_ * d * d > best_ * (best_ >= 0.0 ? t : tFar);
     }
 
-    // The point at distance t with surface height h.
-    void consider(double t, double h) { best_ = std::max(best_, (h - z0_ - k_ * t * t) / t); }
+    // The point at distance t > 0 with surface height h (a division only when it raises the horizon).
+    void consider(double t, double h) {
+        const double rise = h - z0_ - k_ * t * t;
+        if (rise > best_ * t) best_ = std::max(best_, rise / t);
+    }
 
     // A stretch [ta, tb] over which the surface height along the line is h(t) = hA + slope (t - ta) + c (t - ta)^2,
     // evaluated exactly by `at`. The slope's supremum over the stretch is at an end or where its derivative
@@ -41,9 +47,10 @@ public:
     // at t^2 = alpha / gamma. At ta = 0 (the vertex itself, hA = z0) the limit is the slope in t.
     template <class At>
     void stretch(double ta, double tb, double hA, double slope, double c, At&& at) {
-        if (ta > 0.0) consider(ta, hA);
-        else best_ = std::max(best_, slope);
+        if (ta == 0.0) best_ = std::max(best_, slope);
+        else if (ta != lastEnd_) consider(ta, hA);  // else the stretch before ended here, at the same point
         consider(tb, at(tb));
+        lastEnd_ = tb;
         const double alpha = hA - z0_ - slope * ta + c * ta * ta, gamma = c - k_;
         if (gamma != 0.0) {
             const double r = alpha / gamma;
@@ -68,6 +75,9 @@ public:
             return;
         }
         const double h00 = g_.at(ci, cj), h10 = g_.at(ci + 1, cj), h01 = g_.at(ci, cj + 1), h11 = g_.at(ci + 1, cj + 1);
+        // Both surfaces stay within the corners' range: a cell whose highest corner cannot raise the horizon is
+        // passed without solving it (the start cell, at ta = 0, always is solved: its slope counts).
+        if (ta > 0.0 && !canRaise(std::max(std::max(h00, h10), std::max(h01, h11)), ta, tb)) return;
         const double u0 = double(i_ - ci), v0 = double(j_ - cj);  // the vertex in the cell's frame
         auto uAt = [&](double t) { return std::clamp(u0 + t * du_, 0.0, 1.0); };
         auto vAt = [&](double t) { return std::clamp(v0 + t * dv_, 0.0, 1.0); };
@@ -106,10 +116,11 @@ public:
 private:
     const HeightGrid& g_;
     int64_t i_, j_;
-    double du_, dv_;
+    double du_, dv_, invDu_, invDv_;
     double z0_, k_;
     bool triangles_;
     double best_;
+    double lastEnd_ = -1.0;  // where the last stretch solved ended
 };
 
 // The walk behind horizonTangent and horizonAbove: the supremum of the slopes, or `floor` when none exceeds it;
@@ -146,16 +157,10 @@ double walkHorizon(const HeightGrid& g, int64_t i, int64_t j, double dirX, doubl
                                                                dv > 0.0   ? double(ny - j) / dv
                                                                : dv < 0.0 ? double(-j) / dv
                                                                           : kInf));
-    const double k = search.dropPerSquareM;
-    const double z0 = g.at(i, j), top = g.maxHeightM();
+    const double top = g.maxHeightM();
     const auto pyramid = g.pyramidView();
     const int levels = g.pyramidLevels();
-    // Nothing over [t, tFar] with heights up to `bound` can raise the horizon: every point there is at least t
-    // away (and dropped by k t^2 at least), at most tFar away.
-    auto cannotRaise = [&](double bound, double t, double tFar) {
-        const double b = walk.best();
-        return bound - z0 - k * t * t <= b * (b >= 0.0 ? t : tFar);
-    };
+    auto cannotRaise = [&](double bound, double t, double tFar) { return !walk.canRaise(bound, t, tFar); };
     double t = 0.0;
     int level = 0;
     int64_t visited = 0, skipped = 0;
@@ -168,8 +173,8 @@ double walkHorizon(const HeightGrid& g, int64_t i, int64_t j, double dirX, doubl
             int lv = std::min(level + 1, levels);
             for (; lv >= 1; --lv) {
                 const int64_t bi = ci >> lv, bj = cj >> lv;
-                const double txb = du > 0.0 ? double(((bi + 1) << lv) - i) / du : du < 0.0 ? double((bi << lv) - i) / du : kInf;
-                const double tyb = dv > 0.0 ? double(((bj + 1) << lv) - j) / dv : dv < 0.0 ? double((bj << lv) - j) / dv : kInf;
+                const double txb = walk.atX(du > 0.0 ? (bi + 1) << lv : bi << lv);
+                const double tyb = walk.atY(dv > 0.0 ? (bj + 1) << lv : bj << lv);
                 tOut = std::min(txb, tyb);
                 if (tOut > t && cannotRaise(pyramid.blockMaxM(lv, bi, bj), t, std::min(tOut, tEnd))) {
                     skip = true;

@@ -16,7 +16,8 @@ struct HorizonSearch {
     // Points farther than this (horizontal metres) are ignored.
     double maxDistanceM = std::numeric_limits<double>::infinity();
     // Earth curvature less refraction: a point at horizontal distance d is lowered by dropPerSquareM * d^2, that
-    // is coeff / (2 R) for an earth of radius R and a curvature coefficient coeff (1 - refraction). 0 = flat.
+    // is coeff / (2 R) for an earth of radius R and a curvature coefficient coeff (1 - refraction). 0 = flat;
+    // negative values raise far points (the terrain turned upside down sees the earth's curvature so).
     double dropPerSquareM = 0.0;
 };
 

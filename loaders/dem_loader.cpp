@@ -166,6 +166,10 @@ Lattice georeference(const std::string& path, GDALDataset& dataset, const DemLoa
 
     std::copy(gt, gt + 6, geo.geoTransform);
     geo.georeferenced = true;
+    // GDAL reports a pixel-is-point raster's geotransform in the pixel-is-area convention already; the flag only
+    // travels to the outputs, so that they declare what the source declares.
+    const char* areaOrPoint = dataset.GetMetadataItem(GDALMD_AREA_OR_POINT);
+    geo.pixelIsPoint = areaOrPoint != nullptr && EQUAL(areaOrPoint, GDALMD_AOP_POINT);
     Lattice lattice;
     lattice.flipRows = gt[5] < 0.0;
     lattice.flipColumns = gt[1] < 0.0;

@@ -21,6 +21,7 @@ struct GeoReference {
     double originX = 0.0;           // source-CRS x of vertex (0, 0) (double: UTM-sized values)
     double originY = 0.0;           // source-CRS y of vertex (0, 0)
     double centreLatDeg = 0.0;      // latitude used for the metric conversion of a geographic CRS
+    bool pixelIsPoint = false;      // the source declares its samples as points (AREA_OR_POINT=Point)
 };
 
 // Options for loading a DEM.

@@ -128,6 +128,16 @@ void writeGeoTiff(const std::string& path, const GridRaster& raster, RasterType 
     if (dataset == nullptr) throw fail("cannot create GeoTIFF");
     bool ok = true;
     std::string what;
+    // Before the geotransform: with AREA_OR_POINT=Point GDAL stores the tie point half a pixel in, and reads the
+    // same geotransform back.
+    if (raster.pixelIsPoint) dataset->SetMetadataItem(GDALMD_AREA_OR_POINT, GDALMD_AOP_POINT);
+    for (const auto& [key, value] : raster.metadata) dataset->SetMetadataItem(key.c_str(), value.c_str());
+    for (int b = 1; b <= raster.bands; ++b) {
+        GDALRasterBand* band = dataset->GetRasterBand(b);
+        if (size_t(b) <= raster.bandDescriptions.size()) band->SetDescription(raster.bandDescriptions[size_t(b - 1)].c_str());
+        const size_t unit = raster.bandUnits.size() == 1 ? 0 : size_t(b - 1);
+        if (unit < raster.bandUnits.size()) band->SetUnitType(raster.bandUnits[unit].c_str());
+    }
     // Pixel-is-area geotransform: the centre of raster sample (i, j) lands on (originX + i * pixelSizeX,
     // originY + j * pixelSizeY); file row 0 is raster row height - 1.
     double gt[6] = {originX - 0.5 * pixelSizeX,

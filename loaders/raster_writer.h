@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace terracast {
@@ -18,6 +19,10 @@ struct GridRaster {
     std::vector<float> values;
     double noDataValue = 0.0;       // written as the bands' nodata value when hasNoData
     bool hasNoData = false;
+    std::vector<std::string> bandDescriptions;  // one per band, or none
+    std::vector<std::string> bandUnits;         // one per band ("degree", "1"), one for all bands, or none
+    std::vector<std::pair<std::string, std::string>> metadata;  // the dataset's metadata items
+    bool pixelIsPoint = false;      // declare AREA_OR_POINT=Point (the geotransform is written the same)
 };
 
 // Sample type of the written file.

@@ -2,6 +2,7 @@
 #include "support/run_command.h"
 
 #include <catch2/catch.hpp>
+#include <fmt/format.h>
 #include <gdal_priv.h>
 #include <ogr_spatialref.h>
 
@@ -81,5 +82,103 @@ TEST_CASE("CLI: shadow, horizon and viewshed GeoTIFFs carry the DEM's CRS and ge
     CHECK(lineCount(bad.err) <= 2);  // a units warning may precede the one error line
     CHECK(bad.err.find("--observer") != std::string::npos);
     CHECK_FALSE(fs::exists(dir / "none.tif"));
+    fs::remove_all(dir);
+}
+
+TEST_CASE("CLI: map products declare what they hold: bands, units, types, pixel-is-point", "[cli][maps]") {
+    const fs::path dir = fs::temp_directory_path() / ("terracast-maps-meta-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::string hgt = std::string(TERRACAST_SOURCE_DIR) + "/data-samples/N44W072.srtm3-white-mountains-nh.hgt";
+    const std::string runs[] = {
+        "shadow '" + kDem + "' --sun 250,15 -o '" + (dir / "point.tif").string() + "'",
+        "shadow '" + kDem + "' --sun 250,15 --sun-size 0.53 -o '" + (dir / "disc.tif").string() + "'",
+        "horizon '" + kDem + "' --azimuths 0:360:90 --max-distance 900 -o '" + (dir / "four.tif").string() + "'",
+        "svf '" + kDem + "' --directions 8 -o '" + (dir / "svf.tif").string() + "'",
+        "horizon '" + hgt + "' --azimuth 90 --threads 2 -o '" + (dir / "hgt.tif").string() + "'",
+    };
+    for (const auto& args : runs) {
+        const auto r = runTerracast(args);
+        INFO(args << "\n" << r.err);
+        REQUIRE(r.exitCode == 0);
+        CHECK(r.err.find("horizon walks") + r.err.find("shadow walks") != 2 * std::string::npos);  // the summary
+    }
+    GDALAllRegister();
+    auto open = [](const fs::path& p) {
+        std::unique_ptr<GDALDataset> ds(GDALDataset::Open(p.string().c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+        REQUIRE(ds);
+        return ds;
+    };
+    {
+        // A point sun: bytes 0/1 with 255 for nodata; a disc: the hidden share as Float32.
+        auto point = open(dir / "point.tif");
+        GDALRasterBand* b = point->GetRasterBand(1);
+        CHECK(b->GetRasterDataType() == GDT_Byte);
+        int has = 0;
+        CHECK(b->GetNoDataValue(&has) == 255.0);
+        CHECK(has);
+        CHECK(std::string(b->GetDescription()).find("shadow") != std::string::npos);
+        auto disc = open(dir / "disc.tif");
+        CHECK(disc->GetRasterBand(1)->GetRasterDataType() == GDT_Float32);
+        CHECK(std::string(disc->GetMetadataItem("TERRACAST_SUN_SIZE_DEG")) == "0.53");
+        // The source declares pixel-is-area and so do they.
+        CHECK(std::string(point->GetMetadataItem("AREA_OR_POINT")) == "Area");
+    }
+    {
+        // One band per azimuth in order, in degrees, with the settings in the metadata.
+        auto four = open(dir / "four.tif");
+        REQUIRE(four->GetRasterCount() == 4);
+        CHECK(std::string(four->GetRasterBand(2)->GetDescription()) == "horizon angle towards azimuth 90 degrees");
+        CHECK(std::string(four->GetRasterBand(4)->GetUnitType()) == "degree");
+        CHECK(std::string(four->GetMetadataItem("TERRACAST_MAX_DISTANCE_M")) == "900");
+        auto svf = open(dir / "svf.tif");
+        REQUIRE(svf->GetRasterCount() == 3);
+        CHECK(std::string(svf->GetRasterBand(1)->GetDescription()).find("sky-view factor") != std::string::npos);
+        CHECK(std::string(svf->GetRasterBand(3)->GetUnitType()) == "degree");
+        // Values in range: a sky-view factor in [0, 1] on valid vertices.
+        std::vector<float> v(size_t(svf->GetRasterXSize() * svf->GetRasterYSize()));
+        REQUIRE(svf->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, svf->GetRasterXSize(), svf->GetRasterYSize(), v.data(),
+                                                 svf->GetRasterXSize(), svf->GetRasterYSize(), GDT_Float32, 0, 0) == CE_None);
+        int64_t inRange = 0, nodata = 0;
+        for (float x : v) {
+            nodata += x == -9999.0f;
+            inRange += x >= 0.0f && x <= 1.0f;
+        }
+        CHECK(nodata > 0);
+        CHECK(inRange + nodata == int64_t(v.size()));
+    }
+    {
+        // SRTM .hgt declares pixel-is-point: the output says so too, over the same corners.
+        auto hgt = open(dir / "hgt.tif");
+        CHECK(std::string(hgt->GetMetadataItem("AREA_OR_POINT")) == "Point");
+        const Georef src = readGeoref(std::string(TERRACAST_SOURCE_DIR) + "/data-samples/N44W072.srtm3-white-mountains-nh.hgt");
+        double gt[6];
+        hgt->GetGeoTransform(gt);
+        for (int k = 0; k < 6; ++k) CHECK(gt[k] == Approx(src.gt[k]).margin(1e-9));
+    }
+    // An observer inside the raster's outer half-pixel is on the DEM (as gdal_viewshed takes it); one pixel
+    // further out is not: west of the first valid sample of a row in the DEM's west column.
+    const Georef src = readGeoref(kDem);
+    int row = -1;
+    {
+        auto dem = open(kDem);
+        GDALRasterBand* b = dem->GetRasterBand(1);
+        int has = 0;
+        const double nodata = b->GetNoDataValue(&has);
+        for (int r = 1; r + 1 < src.height && row < 0; ++r) {
+            float z[2];
+            REQUIRE(b->RasterIO(GF_Read, 0, r - 1, 1, 2, z, 1, 2, GDT_Float32, 0, 0) == CE_None);
+            if (!has || (z[0] != nodata && z[1] != nodata)) row = r;
+        }
+    }
+    REQUIRE(row > 0);
+    const double x0 = src.gt[0] + 0.5 * src.gt[1], yS = src.gt[3] + (row - 0.5) * src.gt[5];
+    const auto edge = runTerracast(fmt::format("viewshed '{}' --observer {},{} -o '{}'", kDem, x0 - 0.4 * src.gt[1], yS,
+                                               (dir / "edge.tif").string()));
+    INFO(edge.err);
+    CHECK(edge.exitCode == 0);
+    const auto out = runTerracast(fmt::format("viewshed '{}' --observer {},{} -o '{}'", kDem, x0 - 0.6 * src.gt[1], yS,
+                                              (dir / "out.tif").string()));
+    CHECK(out.exitCode == 2);
     fs::remove_all(dir);
 }

@@ -11,60 +11,180 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <sstream>
 
 namespace terracast {
 
 namespace {
 
+// The earth's radius the curvature options use (WGS 84's semi-major axis, as gdal_viewshed).
+constexpr double kEarthRadiusM = 6378137.0;
+
+// What a product's GeoTIFF says about itself besides its values.
+struct RasterLabels {
+    std::vector<std::string> bands;    // one description per band
+    std::vector<std::string> units;    // one unit per band, or one for all
+    std::vector<std::pair<std::string, std::string>> metadata;
+};
+
 // Writes a per-vertex map raster as a GeoTIFF on the DEM's own grid (NaN becomes `noData`).
 void writeVertexRaster(const std::string& path, const LoadedDem& dem, const MapRaster& r, RasterType type,
-                       double noData) {
+                       double noData, RasterLabels labels) {
     GridRaster out;
     out.width = r.width;
     out.height = r.height;
+    out.bands = r.bands;
     out.values = r.values;
     out.hasNoData = true;
     out.noDataValue = noData;
+    out.bandDescriptions = std::move(labels.bands);
+    out.bandUnits = std::move(labels.units);
+    out.metadata = std::move(labels.metadata);
+    out.metadata.emplace_back("TERRACAST_SOURCE", dem.path);
+    out.pixelIsPoint = dem.geo.pixelIsPoint;
     for (float& v : out.values)
         if (std::isnan(v)) v = float(noData);
     writeGeoTiff(path, out, type, dem.geo, dem.geo.originX, dem.geo.originY, sourcePixelSizeX(dem.geo),
                  sourcePixelSizeY(dem.geo));
 }
 
-// The line that ends a raster command: what was written, its size, seconds and peak memory.
+// The line that ends a raster command: what was written, its size, seconds, rays and peak memory.
 void tellRasterSummary(const RunListener& listener, const std::string& what, const std::string& path,
-                       const MapRaster& r, std::chrono::steady_clock::time_point start) {
+                       const MapRaster& r, int64_t rays, const std::string& rayKind,
+                       std::chrono::steady_clock::time_point start) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    listener.tell(fmt::format("{} {} ({} x {} vertices) in {:.2f} s, peak memory {}", what, path, r.width, r.height,
-                              seconds, humanBytes(peakResidentBytes())));
+    listener.tell(fmt::format("{} {} ({} x {} vertices{}) in {:.2f} s, {} {} ({:.2f} M/s), peak memory {}", what, path,
+                              r.width, r.height, r.bands > 1 ? fmt::format(", {} bands", r.bands) : "", seconds, rays,
+                              rayKind, seconds > 0.0 ? double(rays) / seconds * 1e-6 : 0.0,
+                              humanBytes(peakResidentBytes())));
 }
 
+// The search radius and curvature options as a HorizonSearch.
+HorizonSearch searchFrom(double maxDistanceM, double curvatureCoeff, const char* command) {
+    if (!(maxDistanceM >= 0.0) || !std::isfinite(maxDistanceM))
+        throw InputError(fmt::format("{} --max-distance: expected metres >= 0, found {}", command, maxDistanceM));
+    if (!std::isfinite(curvatureCoeff) || curvatureCoeff < 0.0 || curvatureCoeff > 2.0)
+        throw InputError(fmt::format("{} --curvature-coeff: expected a number in [0, 2], found {}", command,
+                                     curvatureCoeff));
+    HorizonSearch search;
+    if (maxDistanceM > 0.0) search.maxDistanceM = maxDistanceM;
+    search.dropPerSquareM = curvatureCoeff / (2.0 * kEarthRadiusM);
+    return search;
+}
+
+std::string number(double v) { return fmt::format("{}", v); }
+
 }  // namespace
+
+std::vector<double> parseAzimuthRange(const std::string& text, const std::string& option) {
+    double a = 0.0, b = 0.0, step = 0.0;
+    char c1 = 0, c2 = 0;
+    std::istringstream in(text);
+    if (!(in >> a >> c1 >> b >> c2 >> step) || c1 != ':' || c2 != ':' || !in.eof() || !std::isfinite(a) ||
+        !std::isfinite(b) || !(step > 0.0) || !(b > a))
+        throw InputError(fmt::format("{}: expected START:END:STEP in degrees with END > START and STEP > 0 (END "
+                                     "excluded), found '{}'",
+                                     option, text));
+    std::vector<double> out;
+    for (int64_t k = 0;; ++k) {
+        const double az = a + double(k) * step;
+        if (az >= b - 1e-9 * step) break;
+        if (out.size() >= 3600)
+            throw InputError(fmt::format("{}: '{}' gives more than 3600 azimuths", option, text));
+        out.push_back(az);
+    }
+    return out;
+}
 
 void writeShadowMap(const ShadowMapOptions& o, const RunListener& listener) {
     checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
     checkViewValues(1.0, o.sunElevationDeg);
     if (!(o.sunSizeDeg >= 0.0 && o.sunSizeDeg < 30.0))
         throw InputError(fmt::format("--sun-size: expected degrees in [0, 30), found {}", o.sunSizeDeg));
+    const HorizonSearch search = searchFrom(o.maxDistanceM, o.curvatureCoeff, "shadow");
     const CellMethod method = requireDirectMethod(o.method, "shadow");
     const LoadedDem dem = loadDemSource(o.dem, listener);
+    listener.at("shadow");
     const auto start = std::chrono::steady_clock::now();
+    const int samples = 16;
     const MapRaster mask = shadowMask(dem.grid, radians(o.sunAzimuthDeg), radians(o.sunElevationDeg), method,
-                                      radians(0.5 * o.sunSizeDeg), 16, o.threads);
-    writeVertexRaster(o.output, dem, mask, RasterType::Float32, -9999.0);
-    tellRasterSummary(listener, "shadow mask", o.output, mask, start);
+                                      radians(0.5 * o.sunSizeDeg), samples, o.threads, search, listener.progress);
+    const bool point = o.sunSizeDeg == 0.0;
+    RasterLabels labels;
+    labels.bands = {point ? "sun shadow: 1 shadowed, 0 lit" : "share of the sun's disc hidden by terrain"};
+    labels.units = {"1"};
+    labels.metadata = {{"TERRACAST_PRODUCT", "shadow"},
+                       {"TERRACAST_SUN_AZIMUTH_DEG", number(o.sunAzimuthDeg)},
+                       {"TERRACAST_SUN_ELEVATION_DEG", number(o.sunElevationDeg)},
+                       {"TERRACAST_SUN_SIZE_DEG", number(o.sunSizeDeg)},
+                       {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
+    // A point sun gives 0 or 1: bytes, 255 for nodata; a disc gives fractions.
+    writeVertexRaster(o.output, dem, mask, point ? RasterType::Byte : RasterType::Float32, point ? 255.0 : -9999.0,
+                      std::move(labels));
+    const int64_t valid = int64_t(std::count_if(mask.values.begin(), mask.values.end(), [](float v) { return !std::isnan(v); }));
+    tellRasterSummary(listener, "shadow mask", o.output, mask, valid * (point ? 1 : samples), "shadow walks", start);
 }
 
 void writeHorizonMap(const HorizonMapOptions& o, const RunListener& listener) {
     checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
+    if (o.azimuthsDeg.empty()) throw InputError("horizon: no azimuth given (--azimuth or --azimuths)");
+    for (double a : o.azimuthsDeg)
+        if (!std::isfinite(a)) throw InputError(fmt::format("horizon --azimuth: expected degrees, found {}", a));
+    const HorizonSearch search = searchFrom(o.maxDistanceM, o.curvatureCoeff, "horizon");
     const CellMethod method = requireDirectMethod(o.method, "horizon");
     const LoadedDem dem = loadDemSource(o.dem, listener);
+    listener.at("horizon");
     const auto start = std::chrono::steady_clock::now();
-    const MapRaster horizon = horizonMap(dem.grid, radians(o.azimuthDeg), method, o.threads);
-    writeVertexRaster(o.output, dem, horizon, RasterType::Float32, -9999.0);
-    tellRasterSummary(listener, "horizon angles", o.output, horizon, start);
+    std::vector<double> azimuths;
+    RasterLabels labels;
+    for (double a : o.azimuthsDeg) {
+        azimuths.push_back(radians(a));
+        labels.bands.push_back(fmt::format("horizon angle towards azimuth {} degrees", a));
+    }
+    labels.units = {"degree"};
+    labels.metadata = {{"TERRACAST_PRODUCT", "horizon"},
+                       {"TERRACAST_AZIMUTH_CONVENTION", "degrees clockwise from grid north"},
+                       {"TERRACAST_MAX_DISTANCE_M", number(o.maxDistanceM)},
+                       {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
+                       {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
+    const MapRaster horizon = horizonMaps(dem.grid, azimuths, method, o.threads, search, listener.progress);
+    writeVertexRaster(o.output, dem, horizon, RasterType::Float32, -9999.0, std::move(labels));
+    tellRasterSummary(listener, "horizon angles", o.output, horizon,
+                      int64_t(horizon.width * horizon.height) * horizon.bands, "horizon walks", start);
+}
+
+void writeSkyViewMap(const SkyViewMapOptions& o, const RunListener& listener) {
+    checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
+    if (o.directions < 1 || o.directions > 3600)
+        throw InputError(fmt::format("svf --directions: expected 1 to 3600, found {}", o.directions));
+    SkyViewSettings s;
+    s.search = searchFrom(o.maxDistanceM, o.curvatureCoeff, "svf");
+    s.method = requireDirectMethod(o.method, "svf");
+    const LoadedDem dem = loadDemSource(o.dem, listener);
+    const double radius = o.maxDistanceM > 0.0 ? o.maxDistanceM
+                                               : 10.0 * std::max(dem.grid.cellSizeXM(), dem.grid.cellSizeYM());
+    s.search.maxDistanceM = radius;
+    s.directions = o.directions;
+    s.threads = o.threads;
+    s.progress = listener.progress;
+    listener.at("svf");
+    const auto start = std::chrono::steady_clock::now();
+    const MapRaster r = skyView(dem.grid, s);
+    RasterLabels labels;
+    labels.bands = {"sky-view factor (share of the sky visible)", "positive openness", "negative openness"};
+    labels.units = {"1", "degree", "degree"};
+    labels.metadata = {{"TERRACAST_PRODUCT", "svf"},
+                       {"TERRACAST_DIRECTIONS", std::to_string(o.directions)},
+                       {"TERRACAST_MAX_DISTANCE_M", number(radius)},
+                       {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
+                       {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
+    writeVertexRaster(o.output, dem, r, RasterType::Float32, -9999.0, std::move(labels));
+    listener.tell(fmt::format("sky-view factor and openness: {} directions, search radius {:.1f} m", o.directions, radius));
+    tellRasterSummary(listener, "sky view", o.output, r, int64_t(r.width * r.height) * 2 * o.directions,
+                      "horizon walks", start);
 }
 
 void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) {
@@ -77,21 +197,39 @@ void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) 
     double x = o.observerX, y = o.observerY;
     if (o.lonLat) lonLatToSource(dem.geo, o.observerX, o.observerY, x, y);
     sourceToLocal(dem, x, y, s.observerXM, s.observerYM);
-    if (s.observerXM < 0.0 || s.observerYM < 0.0 || s.observerXM > dem.grid.extentXM() ||
-        s.observerYM > dem.grid.extentYM())
+    // The raster's pixels reach half a cell beyond the outermost vertices: an observer there stands on the
+    // nearest edge of the surface.
+    const double halfX = 0.5 * dem.grid.cellSizeXM(), halfY = 0.5 * dem.grid.cellSizeYM();
+    if (s.observerXM < -halfX || s.observerYM < -halfY || s.observerXM > dem.grid.extentXM() + halfX ||
+        s.observerYM > dem.grid.extentYM() + halfY || !std::isfinite(s.observerXM) || !std::isfinite(s.observerYM))
         throw InputError(fmt::format("--observer: {}, {} lies outside the DEM (x {:.3f} .. {:.3f}, y {:.3f} .. {:.3f} "
                                      "in its CRS)",
-                                     o.observerX, o.observerY, dem.geo.originX,
-                                     dem.geo.originX + dem.grid.cellsX() * sourcePixelSizeX(dem.geo), dem.geo.originY,
-                                     dem.geo.originY + dem.grid.cellsY() * sourcePixelSizeY(dem.geo)));
+                                     o.observerX, o.observerY, dem.geo.originX - 0.5 * sourcePixelSizeX(dem.geo),
+                                     dem.geo.originX + (double(dem.grid.cellsX()) + 0.5) * sourcePixelSizeX(dem.geo),
+                                     dem.geo.originY - 0.5 * sourcePixelSizeY(dem.geo),
+                                     dem.geo.originY + (double(dem.grid.cellsY()) + 0.5) * sourcePixelSizeY(dem.geo)));
+    s.observerXM = std::clamp(s.observerXM, 0.0, dem.grid.extentXM());
+    s.observerYM = std::clamp(s.observerYM, 0.0, dem.grid.extentYM());
     s.observerHeightM = o.observerHeightM;
     s.targetHeightM = o.targetHeightM;
     s.curvatureCoeff = o.curvatureCoeff;
     s.threads = o.threads;
+    s.progress = listener.progress;
+    listener.at("viewshed");
     const auto start = std::chrono::steady_clock::now();
     const MapRaster vis = viewshed(dem.grid, s);
-    writeVertexRaster(o.output, dem, vis, RasterType::Byte, 255.0);
-    tellRasterSummary(listener, "viewshed", o.output, vis, start);
+    RasterLabels labels;
+    labels.bands = {"visible from the observer: 1 visible, 0 hidden"};
+    labels.units = {"1"};
+    labels.metadata = {{"TERRACAST_PRODUCT", "viewshed"},
+                       {"TERRACAST_OBSERVER", fmt::format("{},{}", o.observerX, o.observerY)},
+                       {"TERRACAST_OBSERVER_HEIGHT_M", number(o.observerHeightM)},
+                       {"TERRACAST_TARGET_HEIGHT_M", number(o.targetHeightM)},
+                       {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
+                       {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
+    writeVertexRaster(o.output, dem, vis, RasterType::Byte, 255.0, std::move(labels));
+    const int64_t valid = int64_t(std::count_if(vis.values.begin(), vis.values.end(), [](float v) { return !std::isnan(v); }));
+    tellRasterSummary(listener, "viewshed", o.output, vis, valid, "sight lines", start);
 }
 
 }  // namespace terracast

@@ -1,6 +1,8 @@
-// From a DEM file to a map product on the DEM's own grid, written as a GeoTIFF with its georeference: the sun
-// shadow mask, the horizon angle towards an azimuth, and the viewshed of an observer. One summary line each
-// goes to the listener's note.
+// From a DEM file to a map product on the DEM's own grid, written as a GeoTIFF with its georeference (and the
+// source's pixel-is-point or pixel-is-area declaration), band descriptions, units and the settings in its
+// metadata: the sun shadow mask, horizon angles, sky-view factor and openness, and the viewshed of an
+// observer. Progress goes to the listener while it runs, and one summary line (seconds, rays or horizon walks,
+// peak memory) at the end.
 #pragma once
 
 #include "tracer/core/listener.h"
@@ -8,6 +10,7 @@
 #include "tracer/terrain/dem_pipeline.h"
 
 #include <string>
+#include <vector>
 
 namespace terracast {
 
@@ -17,20 +20,39 @@ struct ShadowMapOptions {
     std::string output;                // GeoTIFF on the DEM's grid
     double sunAzimuthDeg = 315.0;      // clockwise from north
     double sunElevationDeg = 35.0;     // above the horizon
-    double sunSizeDeg = 0.0;           // angular diameter; 0 = a point (mask of 0/1), else the blocked fraction
+    double sunSizeDeg = 0.0;           // angular diameter; 0 = a point (Byte mask of 0/1), else the blocked fraction
+    double maxDistanceM = 0.0;         // terrain farther than this casts no shadow; 0 = the whole DEM
+    double curvatureCoeff = 0.0;       // earth curvature less refraction, as viewshed's; 0 = flat earth
     SurfaceMethod method = SurfaceMethod::Bilinear;
     int threads = 0;
 };
 void writeShadowMap(const ShadowMapOptions& options, const RunListener& listener);
 
-// `horizon`: the horizon's elevation angle in degrees per vertex towards an azimuth.
+// `horizon`: the horizon's elevation angle in degrees per vertex towards one azimuth, or one band per azimuth.
 struct HorizonMapOptions {
     DemSource dem;
     std::string output;                // GeoTIFF on the DEM's grid, degrees
-    double azimuthDeg = 180.0;         // clockwise from north
+    std::vector<double> azimuthsDeg{180.0};  // clockwise from north, one band each
+    double maxDistanceM = 0.0;         // search radius; 0 = the whole DEM
+    double curvatureCoeff = 0.0;       // earth curvature less refraction, as viewshed's; 0 = flat earth
     SurfaceMethod method = SurfaceMethod::Bilinear;
     int threads = 0;
 };
+
+// Parses "START:END:STEP" (degrees, END excluded, STEP > 0) into azimuths; throws InputError naming `option`.
+std::vector<double> parseAzimuthRange(const std::string& text, const std::string& option);
+
+// `svf`: sky-view factor, positive and negative openness per vertex, three bands.
+struct SkyViewMapOptions {
+    DemSource dem;
+    std::string output;                // GeoTIFF on the DEM's grid
+    int directions = 16;               // azimuths
+    double maxDistanceM = 0.0;         // search radius; 0 = 10 cells (the Relief Visualization Toolbox's default)
+    double curvatureCoeff = 0.0;
+    SurfaceMethod method = SurfaceMethod::Bilinear;
+    int threads = 0;
+};
+void writeSkyViewMap(const SkyViewMapOptions& options, const RunListener& listener);
 void writeHorizonMap(const HorizonMapOptions& options, const RunListener& listener);
 
 // `viewshed`: 1 visible, 0 hidden, 255 nodata per vertex.

@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <atomic>
 #include <limits>
+#include <mutex>
 #include <random>
 
 namespace terracast {
@@ -15,18 +17,37 @@ namespace terracast {
 namespace {
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
-// Calls f(i, j) for every vertex of the grid, in parallel tiles.
+// Calls f(i, j, out) for every vertex of the grid, in parallel tiles, with `out` the vertex's `bands` values
+// (NaN until set).
+// (NaN until set). `progress` hears the share of vertices done and `raysPerVertex` times their count.
 template <class F>
-MapRaster perVertex(const HeightGrid& grid, int threads, F&& f) {
+MapRaster perVertexBands(const HeightGrid& grid, int bands, int threads, const MapProgress& progress,
+                         int64_t raysPerVertex, F&& f) {
     MapRaster r;
     r.width = grid.width();
     r.height = grid.height();
-    r.values.assign(size_t(r.width * r.height), kNaN);
+    r.bands = bands;
+    r.values.assign(size_t(r.width * r.height * bands), kNaN);
+    std::atomic<int64_t> done{0};
+    std::mutex progressMutex;
+    const double total = double(r.width) * double(r.height);
     parallelForTiles(int(r.width), int(r.height), 64, threads, [&](int x0, int y0, int x1, int y1) {
         for (int j = y0; j < y1; ++j)
-            for (int i = x0; i < x1; ++i) r.values[size_t(int64_t(j) * r.width + i)] = f(int64_t(i), int64_t(j));
+            for (int i = x0; i < x1; ++i) f(int64_t(i), int64_t(j), &r.values[size_t((int64_t(j) * r.width + i) * bands)]);
+        const int64_t now = done += int64_t(x1 - x0) * (y1 - y0);
+        if (progress) {
+            std::lock_guard lock(progressMutex);
+            progress(double(now) / total, now * raysPerVertex);
+        }
     });
     return r;
+}
+
+// One value per vertex: f(i, j).
+template <class F>
+MapRaster perVertex(const HeightGrid& grid, int threads, const MapProgress& progress, int64_t raysPerVertex, F&& f) {
+    return perVertexBands(grid, 1, threads, progress, raysPerVertex,
+                          [&](int64_t i, int64_t j, float* out) { *out = f(i, j); });
 }
 
 // The surface point at vertex (i, j), or none for a vertex that belongs to no valid cell.
@@ -208,7 +229,8 @@ private:
 }  // namespace
 
 MapRaster shadowMask(const HeightGrid& grid, double azimuthRad, double elevationRad, CellMethod method,
-                     double sunRadiusRad, int samples, int threads, const HorizonSearch& search) {
+                     double sunRadiusRad, int samples, int threads, const HorizonSearch& search,
+                     const MapProgress& progress) {
     const glm::dvec3 centre = directionFromRadians(azimuthRad, elevationRad);
     std::vector<glm::dvec3> dirs{centre};
     if (sunRadiusRad > 0.0) {
@@ -223,7 +245,7 @@ MapRaster shadowMask(const HeightGrid& grid, double azimuthRad, double elevation
                 dirs.push_back(glm::normalize(centre + r * (std::cos(phi) * e1 + std::sin(phi) * e2)));
             }
     }
-    return perVertex(grid, threads, [&](int64_t i, int64_t j) {
+    return perVertex(grid, threads, progress, int64_t(dirs.size()), [&](int64_t i, int64_t j) {
         const VertexView vertex(grid, i, j, method);
         if (!vertex.onSurface()) return kNaN;
         int blocked = 0;
@@ -232,18 +254,72 @@ MapRaster shadowMask(const HeightGrid& grid, double azimuthRad, double elevation
     });
 }
 
-MapRaster horizonMap(const HeightGrid& grid, double azimuthRad, CellMethod method, int threads,
-                     const HorizonSearch& search) {
-    const double dirX = std::sin(azimuthRad), dirY = std::cos(azimuthRad);
-    return perVertex(grid, threads, [&](int64_t i, int64_t j) {
+MapRaster horizonMaps(const HeightGrid& grid, const std::vector<double>& azimuthsRad, CellMethod method, int threads,
+                      const HorizonSearch& search, const MapProgress& progress) {
+    const int n = int(azimuthsRad.size());
+    return perVertexBands(grid, n, threads, progress, n, [&](int64_t i, int64_t j, float* out) {
         if (!exactAtVertices(method)) {
             // Nearest has no surface at the vertex: bisection over occlusion from the surface point under it.
             const VertexView vertex(grid, i, j, method);
-            if (!vertex.onSurface()) return kNaN;
-            return float(degrees(bisectHorizon(azimuthRad, 1e-7, [&](const glm::dvec3& d) { return vertex.blocked(d); })));
+            if (!vertex.onSurface()) return;
+            for (int k = 0; k < n; ++k)
+                out[k] = float(degrees(bisectHorizon(azimuthsRad[size_t(k)], 1e-7,
+                                                     [&](const glm::dvec3& d) { return vertex.blocked(d); })));
+            return;
         }
-        if (!vertexOnSurface(grid, i, j)) return kNaN;
-        return float(degrees(std::atan(horizonTangent(grid, i, j, dirX, dirY, method, search))));
+        if (!vertexOnSurface(grid, i, j)) return;
+        for (int k = 0; k < n; ++k) {
+            const double az = azimuthsRad[size_t(k)];
+            out[k] = float(degrees(std::atan(horizonTangent(grid, i, j, std::sin(az), std::cos(az), method, search))));
+        }
+    });
+}
+
+MapRaster horizonMap(const HeightGrid& grid, double azimuthRad, CellMethod method, int threads,
+                     const HorizonSearch& search, const MapProgress& progress) {
+    return horizonMaps(grid, {azimuthRad}, method, threads, search, progress);
+}
+
+MapRaster skyView(const HeightGrid& grid, const SkyViewSettings& s) {
+    if (!exactAtVertices(s.method)) throw GridError("sky-view factor and openness need a surface through the vertices, not nearest");
+    if (s.directions < 1) throw GridError("sky-view factor: at least one direction is needed");
+    // The terrain upside down, for the lowest elevation angles of the negative openness.
+    std::vector<float> flipped = grid.copyHeights();
+    for (float& z : flipped) z = -z;
+    std::vector<uint8_t> valid;
+    if (grid.hasNodata()) {
+        valid.resize(flipped.size());
+        for (int64_t j = 0; j < grid.height(); ++j)
+            for (int64_t i = 0; i < grid.width(); ++i) valid[size_t(j * grid.width() + i)] = grid.vertexValid(i, j);
+    }
+    const HeightGrid below(grid.width(), grid.height(), grid.cellSizeXM(), grid.cellSizeYM(), std::move(flipped),
+                           std::move(valid));
+    HorizonSearch belowSearch = s.search;
+    belowSearch.dropPerSquareM = -s.search.dropPerSquareM;  // the earth's drop lifts the upside-down terrain
+    std::vector<glm::dvec2> dirs;
+    for (int k = 0; k < s.directions; ++k) {
+        const double az = 2.0 * kPi * double(k) / double(s.directions);
+        dirs.push_back({std::sin(az), std::cos(az)});
+    }
+    return perVertexBands(grid, 3, s.threads, s.progress, 2 * int64_t(dirs.size()), [&](int64_t i, int64_t j, float* out) {
+        if (!vertexOnSurface(grid, i, j)) return;
+        double sinSum = 0.0, above = 0.0, under = 0.0;
+        int seen = 0;
+        for (const glm::dvec2& d : dirs) {
+            const double up = horizonTangent(grid, i, j, d.x, d.y, s.method, s.search);
+            if (std::isinf(up)) continue;  // no surface that way: an open sky, and no openness term
+            const double down = horizonTangent(below, i, j, d.x, d.y, s.method, belowSearch);
+            const double g = std::atan(up);
+            sinSum += std::sin(std::max(0.0, g));
+            above += 90.0 - degrees(g);
+            under += 90.0 - degrees(std::atan(down));
+            ++seen;
+        }
+        out[0] = float(1.0 - sinSum / double(dirs.size()));
+        if (seen > 0) {
+            out[1] = float(above / seen);
+            out[2] = float(under / seen);
+        }
     });
 }
 
@@ -274,7 +350,7 @@ MapRaster viewshed(const HeightGrid& grid, const ViewshedSettings& s) {
                         ") m is not over the DEM's surface");
     const glm::dvec3 eye = ground->pointM + glm::dvec3(0.0, 0.0, s.observerHeightM);
     const double endGap = 0.01 * std::min(g->cellSizeXM(), g->cellSizeYM());
-    return perVertex(*g, s.threads, [&](int64_t i, int64_t j) {
+    return perVertex(*g, s.threads, s.progress, 1, [&](int64_t i, int64_t j) {
         if (!g->vertexValid(i, j)) return kNaN;
         const glm::dvec3 target{double(i) * g->cellSizeXM(), double(j) * g->cellSizeYM(),
                                 double(g->at(i, j)) + s.targetHeightM};

@@ -8,6 +8,7 @@
 #include "tracer/terrain/terrain_renderer.h"
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -33,10 +34,15 @@ double horizonAngleRad(const HeightGrid& grid, const HeightFieldHit& at, double 
 // of a valid cell.
 bool blockedFromVertex(const HeightGrid& grid, int64_t i, int64_t j, const glm::dvec3& dir, CellMethod method);
 
+// What a map product tells while it runs: the share of vertices done and the rays (or horizon walks) so far.
+using MapProgress = std::function<void(double fraction, int64_t rays)>;
+
 struct MapRaster {
     int64_t width = 0;
     int64_t height = 0;
-    std::vector<float> values;     // row 0 south; NaN where the grid has no surface (nodata)
+    int bands = 1;
+    std::vector<float> values;     // row 0 south, bands interleaved by vertex; NaN where there is no value (nodata)
+    float at(int64_t i, int64_t j, int band = 0) const { return values[size_t((j * width + i) * bands + band)]; }
 };
 
 // Per vertex: 1 where the sun (a direction) is blocked by terrain, 0 where visible, NaN on nodata. With
@@ -44,13 +50,36 @@ struct MapRaster {
 // blocked fraction. A direction is blocked when the vertex's horizon that way lies above it (horizonAbove,
 // with `search`'s radius and curvature); nearest asks an occlusion walk from the surface point under the vertex.
 MapRaster shadowMask(const HeightGrid& grid, double azimuthRad, double elevationRad, CellMethod method,
-                     double sunRadiusRad = 0.0, int samples = 16, int threads = 0, const HorizonSearch& search = {});
+                     double sunRadiusRad = 0.0, int samples = 16, int threads = 0, const HorizonSearch& search = {},
+                     const MapProgress& progress = {});
 
 // Per vertex: the horizon angle in degrees towards an azimuth; NaN on nodata, -90 where no surface lies that
 // way. Exact for the methods through the vertices (one horizon walk per vertex, heightfield/horizon.h); for
 // nearest, bisection over occlusion tests from the surface point under the vertex (ignoring `search`).
 MapRaster horizonMap(const HeightGrid& grid, double azimuthRad, CellMethod method, int threads = 0,
-                     const HorizonSearch& search = {});
+                     const HorizonSearch& search = {}, const MapProgress& progress = {});
+
+// The same for many azimuths in one pass over the grid: band k holds azimuth k.
+MapRaster horizonMaps(const HeightGrid& grid, const std::vector<double>& azimuthsRad, CellMethod method,
+                      int threads = 0, const HorizonSearch& search = {}, const MapProgress& progress = {});
+
+// Settings of the sky-view factor and openness.
+struct SkyViewSettings {
+    int directions = 16;               // azimuths, evenly spaced from north
+    HorizonSearch search;              // radius and curvature of each horizon
+    CellMethod method = CellMethod::Bilinear;
+    int threads = 0;
+    MapProgress progress;
+};
+
+// Per vertex, from exact horizons in `directions` azimuths: band 0 the sky-view factor, 1 - mean(sin(max(0, g)))
+// over the horizon angles g (Zaksek, Ostir and Kokalj 2011, "Sky-view factor as a relief visualization
+// technique"); band 1 the positive openness, mean(90 - g) in degrees; band 2 the negative openness, mean(90 + n)
+// with n the lowest elevation angle to the surface that way (Yokoyama, Shirasawa and Pike 2002, "Visualizing
+// topography by openness"), which is minus the horizon of the terrain turned upside down. Directions in which
+// no surface lies within the radius (over the grid's edge) are left out of the openness means and count as an
+// open sky. NaN on nodata and for nearest (which throws).
+MapRaster skyView(const HeightGrid& grid, const SkyViewSettings& settings);
 
 // Observer and target settings of a viewshed.
 struct ViewshedSettings {
@@ -62,6 +91,7 @@ struct ViewshedSettings {
     double earthRadiusM = 6378137.0;
     CellMethod method = CellMethod::Bilinear;
     int threads = 0;
+    MapProgress progress;
 };
 
 // Per vertex: 1 when a target at targetHeightM above it is visible from the observer, 0 when hidden, NaN on
