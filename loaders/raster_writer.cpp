@@ -123,6 +123,10 @@ void writeGeoTiff(const std::string& path, const GridRaster& raster, RasterType 
     options.SetNameValue("COMPRESS", "DEFLATE");
     options.SetNameValue("BIGTIFF", "IF_SAFER");
     if (raster.bands > 1) options.SetNameValue("INTERLEAVE", "PIXEL");
+    if (raster.lastBandIsAlpha) {
+        options.SetNameValue("ALPHA", "YES");
+        if (raster.bands == 4 && type == RasterType::Byte) options.SetNameValue("PHOTOMETRIC", "RGB");
+    }
     GDALDataset* dataset = driver->Create(temporary.path().c_str(), static_cast<int>(raster.width),
                                           static_cast<int>(raster.height), raster.bands, gdalType, options.List());
     if (dataset == nullptr) throw fail("cannot create GeoTIFF");

@@ -23,6 +23,7 @@ struct GridRaster {
     std::vector<std::string> bandUnits;         // one per band ("degree", "1"), one for all bands, or none
     std::vector<std::pair<std::string, std::string>> metadata;  // the dataset's metadata items
     bool pixelIsPoint = false;      // declare AREA_OR_POINT=Point (the geotransform is written the same)
+    bool lastBandIsAlpha = false;   // the last band is an alpha band (Byte RGBA: a transparent nodata mask)
 };
 
 // Sample type of the written file.

@@ -66,16 +66,43 @@ TEST_CASE("CLI: shadow, horizon and viewshed GeoTIFFs carry the DEM's CRS and ge
         for (int k = 0; k < 6; ++k) CHECK(out.gt[k] == Approx(src.gt[k]).margin(1e-6));
         CHECK(sameCrs(out.wkt, src.wkt));
     }
-    // The map view: one pixel per cell, pixel edges on the samples' centres, same CRS.
+    // The map view: the DEM's own raster (it stacks on the DEM), RGB and an alpha band that is 0 exactly where
+    // the DEM's samples are nodata and belong to no valid cell.
     REQUIRE(runTerracast("render '" + kDem + "' --view map -o '" + (dir / "map.tif").string() + "'").exitCode == 0);
     const Georef map = readGeoref((dir / "map.tif").string());
-    CHECK(map.width == src.width - 1);
-    CHECK(map.height == src.height - 1);
-    CHECK(map.bands == 3);
-    CHECK(map.gt[0] == Approx(src.gt[0] + 0.5 * src.gt[1]));
-    CHECK(map.gt[3] == Approx(src.gt[3] + 0.5 * src.gt[5]));
-    CHECK(map.gt[1] == Approx(src.gt[1]));
+    CHECK(map.width == src.width);
+    CHECK(map.height == src.height);
+    CHECK(map.bands == 4);
+    for (int k = 0; k < 6; ++k) CHECK(map.gt[k] == Approx(src.gt[k]).margin(1e-6));
     CHECK(sameCrs(map.wkt, src.wkt));
+    {
+        GDALAllRegister();
+        std::unique_ptr<GDALDataset> m(GDALDataset::Open((dir / "map.tif").string().c_str(), GDAL_OF_RASTER));
+        std::unique_ptr<GDALDataset> d(GDALDataset::Open(kDem.c_str(), GDAL_OF_RASTER));
+        REQUIRE(m);
+        REQUIRE(d);
+        CHECK(m->GetRasterBand(4)->GetColorInterpretation() == GCI_AlphaBand);
+        std::vector<uint8_t> alpha(size_t(src.width * src.height));
+        std::vector<float> z(alpha.size());
+        REQUIRE(m->GetRasterBand(4)->RasterIO(GF_Read, 0, 0, src.width, src.height, alpha.data(), src.width, src.height,
+                                              GDT_Byte, 0, 0) == CE_None);
+        REQUIRE(d->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, src.width, src.height, z.data(), src.width, src.height,
+                                              GDT_Float32, 0, 0) == CE_None);
+        int has = 0;
+        const double nodata = d->GetRasterBand(1)->GetNoDataValue(&has);
+        REQUIRE(has);
+        int64_t transparent = 0, nodataSamples = 0;
+        for (size_t k = 0; k < alpha.size(); ++k) {
+            transparent += alpha[k] == 0;
+            nodataSamples += z[k] == float(nodata);
+            if (z[k] != float(nodata)) CHECK((alpha[k] == 255 || alpha[k] == 0));
+            if (z[k] == float(nodata)) CHECK(alpha[k] == 0);
+        }
+        CHECK(nodataSamples > 0);
+        // Every nodata sample is transparent; a valid sample only when it touches no valid cell (isolated).
+        CHECK(transparent >= nodataSamples);
+        CHECK(transparent <= nodataSamples + nodataSamples / 10);
+    }
     // An observer outside the DEM is refused with exit 2 and nothing written.
     const auto bad = runTerracast("viewshed '" + kDem + "' --observer 0,0 -o '" + (dir / "none.tif").string() + "'");
     CHECK(bad.exitCode == 2);

@@ -124,32 +124,44 @@ void renderMap(const DemRenderOptions& o, const RunListener& listener) {
     m.hillshadeBlend = o.hillshadeBlend;
     m.method = requireDirectMethod(o.method, "--view map");
     m.threads = o.threads;
+    m.progress = listener.progress;
+    listener.at("map view");
     const auto start = std::chrono::steady_clock::now();
-    const Film film = renderMapView(dem.grid, m);
+    const MapImage image = renderMapView(dem.grid, m);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const Film& film = image.film;
     if (lowerExtension(o.output) == ".png") {
         writeImage(o.output, RgbImage{film.width, film.height, film.rgb});
     } else {
-        // 8-bit sRGB in three bands, rows south first as the writer expects; pixel centres on the DEM's CRS.
+        // 8-bit sRGB in three bands and an alpha band (0 over holes), rows south first as the writer expects;
+        // at scale 1 the pixels are the DEM's own, at other scales they cover the same footprint.
         GridRaster out;
         out.width = film.width;
         out.height = film.height;
-        out.bands = 3;
-        out.values.resize(size_t(film.width) * size_t(film.height) * 3);
+        out.bands = 4;
+        out.lastBandIsAlpha = true;
+        out.pixelIsPoint = dem.geo.pixelIsPoint;
+        out.bandDescriptions = {"red", "green", "blue", "alpha: 255 over the terrain, 0 over nodata"};
+        out.values.resize(size_t(film.width) * size_t(film.height) * 4);
         for (int y = 0; y < film.height; ++y)
             for (int x = 0; x < film.width; ++x) {
-                const glm::vec3 c = film.get(x, film.height - 1 - y);
-                for (int b = 0; b < 3; ++b)
-                    out.values[(size_t(y) * size_t(film.width) + size_t(x)) * 3 + size_t(b)] = 255.0f * srgbFromLinear(c[b]);
+                const int row = film.height - 1 - y;
+                const glm::vec3 c = film.get(x, row);
+                float* v = &out.values[(size_t(y) * size_t(film.width) + size_t(x)) * 4];
+                for (int b = 0; b < 3; ++b) v[b] = 255.0f * srgbFromLinear(c[b]);
+                v[3] = image.covered[size_t(row) * size_t(film.width) + size_t(x)] ? 255.0f : 0.0f;
             }
-        const double pxX = dem.grid.extentXM() / film.width / dem.grid.cellSizeXM() * sourcePixelSizeX(dem.geo);
-        const double pxY = dem.grid.extentYM() / film.height / dem.grid.cellSizeYM() * sourcePixelSizeY(dem.geo);
-        writeGeoTiff(o.output, out, RasterType::Byte, dem.geo, dem.geo.originX + 0.5 * pxX, dem.geo.originY + 0.5 * pxY,
-                     pxX, pxY);
+        const double pxX = double(dem.grid.width()) / film.width * sourcePixelSizeX(dem.geo);
+        const double pxY = double(dem.grid.height()) / film.height * sourcePixelSizeY(dem.geo);
+        writeGeoTiff(o.output, out, RasterType::Byte, dem.geo, dem.geo.originX - 0.5 * sourcePixelSizeX(dem.geo) + 0.5 * pxX,
+                     dem.geo.originY - 0.5 * sourcePixelSizeY(dem.geo) + 0.5 * pxY, pxX, pxY);
     }
-    listener.tell(fmt::format("map {} ({}x{}, {}) in {:.2f} s; shadows {}, {} sky rays per pixel", o.output, film.width,
-                              film.height, cellMethodName(m.method), seconds, m.castShadows ? "on" : "off",
-                              m.skySamples));
+    const int64_t rays = image.shadowRays + image.skyRays;
+    listener.tell(fmt::format("map {} ({}x{}, {}) in {:.2f} s; shadows {}, {} sky rays per pixel: {} sun + {} sky "
+                              "rays, {:.2f} Mrays/s, peak memory {}",
+                              o.output, film.width, film.height, cellMethodName(m.method), seconds,
+                              m.castShadows ? "on" : "off", m.skySamples, image.shadowRays, image.skyRays,
+                              seconds > 0.0 ? double(rays) / seconds * 1e-6 : 0.0, humanBytes(peakResidentBytes())));
 }
 
 // `render` without --view map.

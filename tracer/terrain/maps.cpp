@@ -4,13 +4,14 @@
 #include "tracer/core/angles.h"
 
 #include "tracer/core/parallel.h"
+#include "tracer/sampling/rng.h"
+#include "tracer/sampling/warps.h"
 
 #include <algorithm>
 #include <cmath>
 #include <atomic>
 #include <limits>
 #include <mutex>
-#include <random>
 
 namespace terracast {
 
@@ -362,50 +363,105 @@ MapRaster viewshed(const HeightGrid& grid, const ViewshedSettings& s) {
     });
 }
 
-Film renderMapView(const HeightGrid& grid, const MapViewSettings& s) {
-    const int w = std::max(1, int(std::lround(double(grid.cellsX()) * s.scale)));
-    const int h = std::max(1, int(std::lround(double(grid.cellsY()) * s.scale)));
-    Film film(w, h);
+namespace {
+
+// The surface normal at vertex (i, j): the unit normals of its valid cells at that corner, averaged (for both
+// surfaces the bilinear gradient at a corner is a triangle's there, or mixes the two that meet at it).
+glm::dvec3 vertexNormal(const HeightGrid& g, int64_t i, int64_t j) {
+    glm::dvec3 sum(0.0);
+    for (int64_t cj = j - 1; cj <= j; ++cj)
+        for (int64_t ci = i - 1; ci <= i; ++ci) {
+            if (ci < 0 || cj < 0 || ci >= g.cellsX() || cj >= g.cellsY() || !g.cellValid(ci, cj)) continue;
+            const double h00 = g.at(ci, cj), h10 = g.at(ci + 1, cj), h01 = g.at(ci, cj + 1), h11 = g.at(ci + 1, cj + 1);
+            const double u = double(i - ci), v = double(j - cj), d = h00 - h10 - h01 + h11;
+            const double dhdu = h10 - h00 + d * v, dhdv = h01 - h00 + d * u;
+            sum += glm::normalize(glm::dvec3(-dhdu / g.cellSizeXM(), -dhdv / g.cellSizeYM(), 1.0));
+        }
+    return glm::normalize(sum);
+}
+
+}  // namespace
+
+MapImage renderMapView(const HeightGrid& grid, const MapViewSettings& s) {
+    const int w = std::max(1, int(std::lround(double(grid.width()) * s.scale)));
+    const int h = std::max(1, int(std::lround(double(grid.height()) * s.scale)));
+    MapImage image;
+    image.film = Film(w, h);
+    image.covered.assign(size_t(w) * size_t(h), 0);
     const glm::dvec3 toSun = s.sun.direction();
-    const double stepX = grid.extentXM() / w, stepY = grid.extentYM() / h;
-    parallelForTiles(w, h, 32, s.threads, [&](int x0, int y0, int x1, int y1) {
-        for (int py = y0; py < y1; ++py)
-            for (int px = x0; px < x1; ++px) {
-                const double x = (px + 0.5) * stepX, y = grid.extentYM() - (py + 0.5) * stepY;
-                const auto hit = surfacePointAt(grid, x, y, s.method);
-                if (!hit) {
-                    film.set(px, py, glm::vec3(0.0f));
-                    continue;
+    // The raster spans the samples' footprint: from half a cell west of vertex 0 to half a cell east of the last.
+    const double stepX = double(grid.width()) * grid.cellSizeXM() / w, stepY = double(grid.height()) * grid.cellSizeYM() / h;
+    const double x0 = -0.5 * grid.cellSizeXM(), yTop = (double(grid.height()) - 0.5) * grid.cellSizeYM();
+    const bool atVertices = w == grid.width() && h == grid.height();
+    std::atomic<int64_t> shadowRays{0}, skyRays{0}, done{0};
+    std::mutex progressMutex;
+    parallelForTiles(w, h, 32, s.threads, [&](int tx0, int ty0, int tx1, int ty1) {
+        int64_t nShadow = 0, nSky = 0;
+        for (int py = ty0; py < ty1; ++py)
+            for (int px = tx0; px < tx1; ++px) {
+                // The surface at the pixel: its point, normal and a test of directions.
+                glm::dvec3 point, normal;
+                std::optional<HeightFieldHit> hit;
+                std::optional<VertexView> vertex;
+                if (atVertices && exactAtVertices(s.method)) {
+                    const int64_t i = px, j = grid.height() - 1 - py;
+                    if (!vertexOnSurface(grid, i, j)) continue;
+                    vertex.emplace(grid, i, j, s.method);
+                    point = {double(i) * grid.cellSizeXM(), double(j) * grid.cellSizeYM(), double(grid.at(i, j))};
+                    normal = vertexNormal(grid, i, j);
+                } else {
+                    const double x = std::clamp(x0 + (px + 0.5) * stepX, 0.0, grid.extentXM());
+                    const double y = std::clamp(yTop - (py + 0.5) * stepY, 0.0, grid.extentYM());
+                    hit = surfacePointAt(grid, x, y, s.method);
+                    if (!hit) continue;
+                    point = hit->pointM;
+                    normal = hit->normal;
                 }
-                const double lambert = std::max(0.0, glm::dot(hit->normal, toSun));
+                auto isBlocked = [&](const glm::dvec3& d) {
+                    return vertex ? vertex->blocked(d) : blockedFrom(grid, *hit, d, s.method);
+                };
+                image.covered[size_t(py) * size_t(w) + size_t(px)] = 1;
+                const double lambert = std::max(0.0, glm::dot(normal, toSun));
                 double lit = toSun.z > 0.0 ? 1.0 : 0.0;
-                if (s.castShadows && lambert > 0.0 && blockedFrom(grid, *hit, toSun, s.method)) lit = 0.0;
+                if (s.castShadows && lambert > 0.0) {
+                    ++nShadow;
+                    if (isBlocked(toSun)) lit = 0.0;
+                }
                 double sky = 1.0;
                 if (s.skySamples > 0) {
-                    // Cosine-weighted directions about the normal, seeded by pixel: the same picture for any
-                    // thread count.
-                    std::mt19937_64 rng(s.seed * 0x9E3779B97F4A7C15ull + uint64_t(py) * uint64_t(w) + uint64_t(px));
-                    std::uniform_real_distribution<double> U(0.0, 1.0);
-                    const glm::dvec3 n = hit->normal;
-                    const glm::dvec3 a = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-                    const glm::dvec3 e1 = glm::normalize(glm::cross(n, a)), e2 = glm::cross(n, e1);
+                    // Cosine-weighted directions about the normal, from counter-based random numbers keyed by the
+                    // pixel: the same picture for any thread count.
+                    const RandomStream random(s.seed, px, py);
+                    const Frame frame = Frame::around(normal);
                     int open = 0;
                     for (int k = 0; k < s.skySamples; ++k) {
-                        const double r = std::sqrt(U(rng)), phi = 2.0 * kPi * U(rng);
-                        const glm::dvec3 d = r * std::cos(phi) * e1 + r * std::sin(phi) * e2 + std::sqrt(1.0 - r * r) * n;
-                        open += !blockedFrom(grid, *hit, d, s.method);
+                        const glm::dvec3 d = frame.toWorld(squareToCosineHemisphere(random.uniform2(2 * uint64_t(k))));
+                        // Sky directions take the occlusion walk from the vertex (the same verdicts but where
+                        // a direction passes exactly through a vertex between holes), which is faster.
+                        open += vertex ? !blockedFromVertex(grid, px, grid.height() - 1 - py, d, s.method)
+                                       : !blockedFrom(grid, *hit, d, s.method);
                     }
+                    nSky += s.skySamples;
                     sky = double(open) / double(s.skySamples);
                 }
-                const glm::vec3 albedo = s.colourRamp ? elevationAlbedo(hit->pointM.z, grid.minHeightM(), grid.maxHeightM())
+                const glm::vec3 albedo = s.colourRamp ? elevationAlbedo(point.z, grid.minHeightM(), grid.maxHeightM())
                                                       : glm::vec3(0.8f);
                 const double shade = double(s.sun.intensity) * lambert * lit + double(s.ambient) * sky;
                 const double plain = double(s.sun.intensity) * lambert + double(s.ambient);
                 const double value = (1.0 - s.hillshadeBlend) * shade + s.hillshadeBlend * plain;
-                film.set(px, py, albedo * float(value));
+                image.film.set(px, py, albedo * float(value));
             }
+        shadowRays += nShadow;
+        skyRays += nSky;
+        const int64_t now = done += int64_t(tx1 - tx0) * (ty1 - ty0);
+        if (s.progress) {
+            std::lock_guard lock(progressMutex);
+            s.progress(double(now) / (double(w) * double(h)), shadowRays.load() + skyRays.load());
+        }
     });
-    return film;
+    image.shadowRays = shadowRays;
+    image.skyRays = skyRays;
+    return image;
 }
 
 }  // namespace terracast

@@ -111,11 +111,23 @@ struct MapViewSettings {
     CellMethod method = CellMethod::Bilinear;
     uint64_t seed = 1;                 // sky sampling seed
     int threads = 0;
+    MapProgress progress;
 };
 
-// A top-down orthographic picture: pixel (px, py) of the film (row 0 at the NORTH) looks straight down on
-// local (x0 + (px + 0.5) * cellX / scale, yTop - (py + 0.5) * cellY / scale), covering the cells'
-// footprint; at scale 1 pixel centres are cell centres. Pixels over nodata are black.
-Film renderMapView(const HeightGrid& grid, const MapViewSettings& settings);
+// A top-down picture and what it covers.
+struct MapImage {
+    Film film;                     // row 0 at the NORTH
+    std::vector<uint8_t> covered;  // per pixel, 1 where the terrain has a surface, 0 over holes (black there)
+    int64_t shadowRays = 0;        // sun visibility tests
+    int64_t skyRays = 0;           // sky visibility tests
+};
+
+// A top-down orthographic picture on the DEM's own raster: round(width * scale) x round(height * scale) pixels
+// over the footprint of the DEM's samples (each sample a pixel, half a cell beyond the outermost vertices). At
+// scale 1 pixel (px, py) is vertex (px, height - 1 - py), shaded at the vertex itself: the normal averaged
+// over its valid cells, the sun and the sky directions blocked when the vertex's horizon lies above them (as
+// `shadow`). At other scales each pixel is shaded at the surface under its centre (clamped to the vertices'
+// extent), found by a vertical probe, with rays spawned off it.
+MapImage renderMapView(const HeightGrid& grid, const MapViewSettings& settings);
 
 }  // namespace terracast

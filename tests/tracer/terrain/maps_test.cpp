@@ -1,6 +1,7 @@
 // Map products: shadow masks against horizon angles, viewsheds on hand-made DEMs, and the map view against
 // analytic shading.
 #include "loaders/dem_loader.h"
+#include "tracer/core/angles.h"
 #include "tracer/terrain/maps.h"
 
 #include <catch2/catch.hpp>
@@ -110,37 +111,73 @@ TEST_CASE("Map view without shadows or sky equals Lambert shading of the analyti
     s.castShadows = false;
     s.skySamples = 0;
     s.sun = Sun{300.0, 40.0};
-    const Film film = renderMapView(g, s);
-    REQUIRE(film.width == g.cellsX());
-    REQUIRE(film.height == g.cellsY());
+    // At scale 1 the pixels are the DEM's samples, shaded at the vertices.
+    const MapImage image = renderMapView(g, s);
+    const Film& film = image.film;
+    REQUIRE(film.width == g.width());
+    REQUIRE(film.height == g.height());
     const glm::dvec3 toSun = s.sun.direction();
-    int64_t checked = 0;
+    int64_t checked = 0, holes = 0;
     for (int py = 0; py < film.height; ++py)
         for (int px = 0; px < film.width; ++px) {
-            const int64_t i = px, j = g.cellsY() - 1 - py;
-            if (!g.cellValid(i, j)) {
+            const int64_t i = px, j = g.height() - 1 - py;
+            // The vertex's normal: the mean of its valid cells' unit normals, each from the corner heights as the
+            // plane through the vertex and its two neighbours in that cell.
+            glm::dvec3 sum(0.0);
+            for (int64_t cj = j - 1; cj <= j; ++cj)
+                for (int64_t ci = i - 1; ci <= i; ++ci) {
+                    if (ci < 0 || cj < 0 || ci >= g.cellsX() || cj >= g.cellsY() || !g.cellValid(ci, cj)) continue;
+                    const int64_t ni = ci == i ? i + 1 : i - 1, nj = cj == j ? j + 1 : j - 1;  // the neighbours
+                    const double sx = (g.at(ni, j) - g.at(i, j)) / (double(ni - i) * g.cellSizeXM());
+                    const double sy = (g.at(i, nj) - g.at(i, j)) / (double(nj - j) * g.cellSizeYM());
+                    sum += glm::normalize(glm::dvec3(-sx, -sy, 1.0));
+                }
+            const bool covered = image.covered[size_t(py) * size_t(film.width) + size_t(px)] != 0;
+            if (sum == glm::dvec3(0.0)) {
+                CHECK_FALSE(covered);
                 CHECK(film.get(px, py).r == 0.0f);
+                ++holes;
                 continue;
             }
-            // The bilinear patch's normal at the cell centre, from the corner heights.
-            const double h00 = g.at(i, j), h10 = g.at(i + 1, j), h01 = g.at(i, j + 1), h11 = g.at(i + 1, j + 1);
-            const double dhdx = 0.5 * ((h10 - h00) + (h11 - h01)) / g.cellSizeXM();
-            const double dhdy = 0.5 * ((h01 - h00) + (h11 - h10)) / g.cellSizeYM();
-            const glm::dvec3 n = glm::normalize(glm::dvec3(-dhdx, -dhdy, 1.0));
+            REQUIRE(covered);
+            const glm::dvec3 n = glm::normalize(sum);
             const double expected = 0.8 * (std::max(0.0, glm::dot(n, toSun)) + s.ambient);
             REQUIRE(film.get(px, py).r == Approx(expected).epsilon(1e-4));
             ++checked;
         }
     CHECK(checked > 10000);
+    CHECK(holes > 100);
     // Cast shadows only darken, and sky visibility only darkens the ambient part.
     MapViewSettings full = s;
     full.castShadows = true;
     full.skySamples = 8;
-    const Film shaded = renderMapView(g, full);
+    const MapImage shaded = renderMapView(g, full);
     int64_t darker = 0;
     for (size_t k = 0; k < film.rgb.size(); ++k) {
-        REQUIRE(shaded.rgb[k] <= film.rgb[k] + 1e-6f);
-        darker += shaded.rgb[k] < film.rgb[k] - 1e-3f;
+        REQUIRE(shaded.film.rgb[k] <= film.rgb[k] + 1e-6f);
+        darker += shaded.film.rgb[k] < film.rgb[k] - 1e-3f;
     }
     CHECK(darker > 1000);
+    // A vertex's cast shadow is the shadow mask's verdict there.
+    const MapRaster mask = shadowMask(g, radians(300.0), radians(40.0), CellMethod::Bilinear);
+    MapViewSettings sunOnly = s;
+    sunOnly.castShadows = true;
+    sunOnly.ambient = 0.0f;
+    const MapImage lit = renderMapView(g, sunOnly);
+    int64_t shadowed = 0;
+    for (int py = 0; py < film.height; ++py)
+        for (int px = 0; px < film.width; ++px) {
+            const float m = mask.at(px, g.height() - 1 - py);
+            if (std::isnan(m) || film.get(px, py).r == 0.0f) continue;
+            CHECK((lit.film.get(px, py).r == 0.0f) == (m == 1.0f || glm::dot(glm::dvec3(0, 0, 1), toSun) <= 0.0 ||
+                                                        film.get(px, py).r <= 0.8f * s.ambient + 1e-6f));
+            shadowed += m == 1.0f;
+        }
+    CHECK(shadowed > 50);
+    // At scale 2, twice the pixels over the same footprint.
+    MapViewSettings twice = s;
+    twice.scale = 2.0;
+    const MapImage fine = renderMapView(g, twice);
+    CHECK(fine.film.width == 2 * g.width());
+    CHECK(fine.film.height == 2 * g.height());
 }
