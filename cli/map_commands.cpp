@@ -28,7 +28,7 @@ void addMapCommands(CLI::App& app, Commands& commands) {
     {
         struct Texts {
             ShadowMapOptions options;
-            std::string sun = "315,35", method = "bilinear";
+            std::string sun = "315,35", sunTime, method = "bilinear";
         };
         auto t = std::make_shared<Texts>();
         auto* cmd = app.add_subcommand("shadow", "Sun shadow mask per DEM vertex (1 blocked, 0 lit), as GeoTIFF");
@@ -37,12 +37,17 @@ void addMapCommands(CLI::App& app, Commands& commands) {
         cmd->add_option("--sun", t->sun, "Sun azimuth,elevation in degrees (default 315,35)");
         cmd->add_option("--sun-size", t->options.sunSizeDeg,
                         "Sun's angular diameter in degrees; > 0 gives the blocked fraction (default 0: a point)");
+        cmd->add_option("--sun-time", t->sunTime,
+                        "START/END/STEP (ISO 8601 times, a step such as 30m or 1h): one band per time, the sun where "
+                        "it stands then over the DEM's centre; replaces --sun");
         addSearchOptions(*cmd, t->options.maxDistanceM, t->options.curvatureCoeff,
                          "Metres beyond which terrain casts no shadow (default 0: the whole DEM)");
         addThreadsAndMethod(*cmd, t->options.threads, t->method);
         commands.push_back({cmd, [t] {
                                 return guarded([&] {
                                     parseSunOption(t->sun, t->options.sunAzimuthDeg, t->options.sunElevationDeg);
+                                    if (!t->sunTime.empty())
+                                        t->options.sunTimes = parseSunTimeRange(t->sunTime, "--sun-time");
                                     t->options.method = parseMethodOption(t->method);
                                     writeShadowMap(t->options, ConsoleListener(false).listener());
                                 });

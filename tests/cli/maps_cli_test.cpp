@@ -209,3 +209,47 @@ TEST_CASE("CLI: map products declare what they hold: bands, units, types, pixel-
     CHECK(out.exitCode == 2);
     fs::remove_all(dir);
 }
+
+TEST_CASE("CLI: shadow --sun-time writes one band per time, in order, with the sun where it stands then",
+          "[cli][maps]") {
+    const fs::path dir = fs::temp_directory_path() / ("terracast-maps-times-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::string helens =
+        std::string(TERRACAST_SOURCE_DIR) + "/data-samples/usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif";
+    // Mt St Helens (46.2 N, 122.2 W) on the June solstice: before sunrise at 12:00Z (05:00 local), high at 20:00Z.
+    const auto r = runTerracast("shadow '" + helens + "' --sun-time 2026-06-21T12:00Z/2026-06-21T20:00Z/4h -o '" +
+                                (dir / "day.tif").string() + "'");
+    INFO(r.err);
+    REQUIRE(r.exitCode == 0);
+    GDALAllRegister();
+    std::unique_ptr<GDALDataset> ds(GDALDataset::Open((dir / "day.tif").string().c_str(), GDAL_OF_RASTER));
+    REQUIRE(ds);
+    REQUIRE(ds->GetRasterCount() == 3);  // 12:00, 16:00 and 20:00: END included
+    const int w = ds->GetRasterXSize(), h = ds->GetRasterYSize();
+    double shadowedShare[3];
+    for (int b = 1; b <= 3; ++b) {
+        const std::string d = ds->GetRasterBand(b)->GetDescription();
+        CHECK(d.find(b == 1 ? "T12:00:00Z" : b == 2 ? "T16:00:00Z" : "T20:00:00Z") != std::string::npos);
+        std::vector<uint8_t> v(size_t(w) * size_t(h));
+        REQUIRE(ds->GetRasterBand(b)->RasterIO(GF_Read, 0, 0, w, h, v.data(), w, h, GDT_Byte, 0, 0) == CE_None);
+        int64_t shadowed = 0, valid = 0;
+        for (uint8_t x : v) {
+            valid += x != 255;
+            shadowed += x == 1;
+        }
+        shadowedShare[b - 1] = double(shadowed) / double(valid);
+    }
+    // The sun 3 degrees below the horizontal: only vertices whose terrain falls away to the north-east see it.
+    CHECK(shadowedShare[0] > 0.8);
+    CHECK(shadowedShare[0] < 0.97);
+    CHECK(shadowedShare[2] < 0.02);  // the sun at 62 degrees from the south-east
+    CHECK(shadowedShare[1] > shadowedShare[2]);
+    // A bad range is one line, exit 2, nothing written.
+    const auto bad = runTerracast("shadow '" + helens + "' --sun-time 2026-06-21T12:00Z/2026-06-21T10:00Z/1h -o '" +
+                                  (dir / "bad.tif").string() + "'");
+    CHECK(bad.exitCode == 2);
+    CHECK(bad.err.find("END is before START") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "bad.tif"));
+    fs::remove_all(dir);
+}

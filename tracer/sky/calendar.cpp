@@ -97,15 +97,22 @@ std::optional<std::string> readIsoTime(std::string_view text, ZonedTime& out) {
     return std::nullopt;
 }
 
-std::optional<UtcInstant> toUtc(const ZonedTime& t) {
-    const int64_t seconds = daysFromCivil(t.year, t.month, t.day) * 86400 + t.hour * 3600 + t.minute * 60 +
-                            t.second - t.offsetMinutes * 60;
+int64_t unixSeconds(const UtcInstant& t) {
+    return daysFromCivil(t.year, t.month, t.day) * 86400 + t.hour * 3600 + t.minute * 60 + int64_t(t.second);
+}
+
+std::optional<UtcInstant> instantFromUnixSeconds(int64_t seconds) {
     const int64_t days = seconds >= 0 ? seconds / 86400 : -((-seconds + 86399) / 86400);
     const int64_t inDay = seconds - days * 86400;
     const CivilDate date = civilFromDays(days);
     if (date.year < 1 || date.year > 9999) return std::nullopt;
     return UtcInstant{int(date.year), int(date.month), int(date.day), int(inDay / 3600), int(inDay / 60 % 60),
                       double(inDay % 60)};
+}
+
+std::optional<UtcInstant> toUtc(const ZonedTime& t) {
+    return instantFromUnixSeconds(daysFromCivil(t.year, t.month, t.day) * 86400 + t.hour * 3600 + t.minute * 60 +
+                                  t.second - t.offsetMinutes * 60);
 }
 
 std::optional<UtcInstant> parseIsoTime(std::string_view text, std::string& why) {

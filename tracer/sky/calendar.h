@@ -45,6 +45,11 @@ std::optional<std::string> readIsoTime(std::string_view text, ZonedTime& out);
 // 0001..9999.
 std::optional<UtcInstant> toUtc(const ZonedTime& time);
 
+// Whole seconds since 1970-01-01T00:00Z (the fraction of a second dropped), and back: nothing outside the years
+// 0001..9999.
+int64_t unixSeconds(const UtcInstant& t);
+std::optional<UtcInstant> instantFromUnixSeconds(int64_t seconds);
+
 // readIsoTime then toUtc; on failure, `why` says what is wrong.
 std::optional<UtcInstant> parseIsoTime(std::string_view text, std::string& why);
 

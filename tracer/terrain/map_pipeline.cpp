@@ -77,6 +77,40 @@ HorizonSearch searchFrom(double maxDistanceM, double curvatureCoeff, const char*
 
 std::string number(double v) { return fmt::format("{}", v); }
 
+// `shadow --sun-time START/END/STEP`: one Byte band per time, in one pass over the grid.
+void writeShadowSeries(const ShadowMapOptions& o, const RunListener& listener) {
+    if (o.sunSizeDeg != 0.0) throw InputError("shadow: --sun-size applies to one sun; --sun-time ranges use a point sun");
+    const HorizonSearch search = searchFrom(o.maxDistanceM, o.curvatureCoeff, "shadow");
+    const CellMethod method = requireDirectMethod(o.method, "shadow");
+    const LoadedDem dem = loadDemSource(o.dem, listener);
+    std::vector<glm::dvec2> suns;
+    RasterLabels labels;
+    std::string times;
+    int up = 0;
+    for (const UtcInstant& when : o.sunTimes) {
+        double az = 0.0, el = 0.0;
+        placeSunOverGrid(when, dem.geo, dem.grid.width(), dem.grid.height(), o.dem.path + ": --sun-time", az, el);
+        suns.push_back({radians(az), radians(el)});
+        up += el > 0.0;
+        labels.bands.push_back(
+            fmt::format("sun shadow at {} (azimuth {:.2f}, elevation {:.2f} degrees): 1 shadowed, 0 lit", formatUtc(when), az, el));
+        if (!times.empty()) times += ',';
+        times += formatUtc(when);
+    }
+    labels.units = {"1"};
+    labels.metadata = {{"TERRACAST_PRODUCT", "shadow"},
+                       {"TERRACAST_SUN_TIMES", times},
+                       {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
+    listener.tell(fmt::format("{} sun times from {} to {}, the sun above the horizon at {} of them", o.sunTimes.size(),
+                              formatUtc(o.sunTimes.front()), formatUtc(o.sunTimes.back()), up));
+    listener.at("shadow");
+    const auto start = std::chrono::steady_clock::now();
+    const MapRaster masks = shadowMasks(dem.grid, suns, method, o.threads, search, listener.progress);
+    writeVertexRaster(o.output, dem, masks, RasterType::Byte, 255.0, std::move(labels));
+    const int64_t valid = int64_t(std::count_if(masks.values.begin(), masks.values.end(), [](float v) { return !std::isnan(v); }));
+    tellRasterSummary(listener, "shadow masks", o.output, masks, valid, "shadow walks", start);
+}
+
 }  // namespace
 
 std::vector<double> parseAzimuthRange(const std::string& text, const std::string& option) {
@@ -99,8 +133,44 @@ std::vector<double> parseAzimuthRange(const std::string& text, const std::string
     return out;
 }
 
+std::vector<UtcInstant> parseSunTimeRange(const std::string& text, const std::string& option) {
+    auto fail = [&](const std::string& why) {
+        return InputError(fmt::format("{}: expected START/END/STEP such as 2026-06-21T04:00Z/2026-06-21T20:00Z/30m, "
+                                      "found '{}' ({})",
+                                      option, text, why));
+    };
+    const size_t a = text.find('/'), b = a == std::string::npos ? a : text.find('/', a + 1);
+    if (b == std::string::npos || text.find('/', b + 1) != std::string::npos) throw fail("three parts separated by /");
+    std::string why;
+    const auto start = parseIsoTime(text.substr(0, a), why);
+    if (!start) throw fail("START: " + why);
+    const auto end = parseIsoTime(text.substr(a + 1, b - a - 1), why);
+    if (!end) throw fail("END: " + why);
+    const std::string step = text.substr(b + 1);
+    int64_t count = 0;
+    size_t used = 0;
+    try {
+        count = std::stoll(step, &used);
+    } catch (const std::exception&) {
+        throw fail("STEP: a whole number with a unit s, m, h or d");
+    }
+    const std::string unit = step.substr(used);
+    const int64_t per = unit == "s" ? 1 : unit == "m" ? 60 : unit == "h" ? 3600 : unit == "d" ? 86400 : 0;
+    if (per == 0 || count <= 0 || count > 366 * 86400) throw fail("STEP: a whole number > 0 with a unit s, m, h or d");
+    const int64_t t0 = unixSeconds(*start), t1 = unixSeconds(*end);
+    if (t1 < t0) throw fail("END is before START");
+    if ((t1 - t0) / (count * per) + 1 > 3600) throw fail("more than 3600 times");
+    std::vector<UtcInstant> times;
+    for (int64_t t = t0; t <= t1; t += count * per) times.push_back(*instantFromUnixSeconds(t));
+    return times;
+}
+
 void writeShadowMap(const ShadowMapOptions& o, const RunListener& listener) {
     checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
+    if (!o.sunTimes.empty()) {
+        writeShadowSeries(o, listener);
+        return;
+    }
     checkViewValues(1.0, o.sunElevationDeg);
     if (!(o.sunSizeDeg >= 0.0 && o.sunSizeDeg < 30.0))
         throw InputError(fmt::format("--sun-size: expected degrees in [0, 30), found {}", o.sunSizeDeg));

@@ -7,6 +7,7 @@
 
 #include "tracer/core/listener.h"
 #include "tracer/core/surface_method.h"
+#include "tracer/sky/calendar.h"
 #include "tracer/terrain/dem_pipeline.h"
 
 #include <string>
@@ -21,6 +22,8 @@ struct ShadowMapOptions {
     double sunAzimuthDeg = 315.0;      // clockwise from north
     double sunElevationDeg = 35.0;     // above the horizon
     double sunSizeDeg = 0.0;           // angular diameter; 0 = a point (Byte mask of 0/1), else the blocked fraction
+    std::vector<UtcInstant> sunTimes;  // when not empty: one band per time, the sun where it stands then over the
+                                       // DEM's centre (replaces the azimuth and elevation; a point sun)
     double maxDistanceM = 0.0;         // terrain farther than this casts no shadow; 0 = the whole DEM
     double curvatureCoeff = 0.0;       // earth curvature less refraction, as viewshed's; 0 = flat earth
     SurfaceMethod method = SurfaceMethod::Bilinear;
@@ -38,6 +41,10 @@ struct HorizonMapOptions {
     SurfaceMethod method = SurfaceMethod::Bilinear;
     int threads = 0;
 };
+
+// Parses "START/END/STEP": ISO 8601 times (as --sun-time) and a step such as 30m, 1h, 90s or 1d; END is included
+// when the steps land on it. Throws InputError naming `option`.
+std::vector<UtcInstant> parseSunTimeRange(const std::string& text, const std::string& option);
 
 // Parses "START:END:STEP" (degrees, END excluded, STEP > 0) into azimuths; throws InputError naming `option`.
 std::vector<double> parseAzimuthRange(const std::string& text, const std::string& option);

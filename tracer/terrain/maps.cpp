@@ -255,6 +255,18 @@ MapRaster shadowMask(const HeightGrid& grid, double azimuthRad, double elevation
     });
 }
 
+MapRaster shadowMasks(const HeightGrid& grid, const std::vector<glm::dvec2>& sunsRad, CellMethod method, int threads,
+                      const HorizonSearch& search, const MapProgress& progress) {
+    std::vector<glm::dvec3> dirs;
+    for (const glm::dvec2& sun : sunsRad) dirs.push_back(directionFromRadians(sun.x, sun.y));
+    const int n = int(dirs.size());
+    return perVertexBands(grid, n, threads, progress, n, [&](int64_t i, int64_t j, float* out) {
+        const VertexView vertex(grid, i, j, method);
+        if (!vertex.onSurface()) return;
+        for (int k = 0; k < n; ++k) out[k] = vertex.blocked(dirs[size_t(k)], search) ? 1.0f : 0.0f;
+    });
+}
+
 MapRaster horizonMaps(const HeightGrid& grid, const std::vector<double>& azimuthsRad, CellMethod method, int threads,
                       const HorizonSearch& search, const MapProgress& progress) {
     const int n = int(azimuthsRad.size());

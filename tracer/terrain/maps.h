@@ -53,6 +53,11 @@ MapRaster shadowMask(const HeightGrid& grid, double azimuthRad, double elevation
                      double sunRadiusRad = 0.0, int samples = 16, int threads = 0, const HorizonSearch& search = {},
                      const MapProgress& progress = {});
 
+// Per vertex, for many point suns in one pass: band k is 1 where sun k (azimuth, elevation in radians) is
+// blocked, 0 where it is visible, NaN on nodata; decided as shadowMask does.
+MapRaster shadowMasks(const HeightGrid& grid, const std::vector<glm::dvec2>& sunsRad, CellMethod method,
+                      int threads = 0, const HorizonSearch& search = {}, const MapProgress& progress = {});
+
 // Per vertex: the horizon angle in degrees towards an azimuth; NaN on nodata, -90 where no surface lies that
 // way. Exact for the methods through the vertices (one horizon walk per vertex, heightfield/horizon.h); for
 // nearest, bisection over occlusion tests from the surface point under the vertex (ignoring `search`).

@@ -71,3 +71,24 @@ TEST_CASE("Calendar: an ISO 8601 time with an offset is the UTC instant the C li
     CHECK_FALSE(parseIsoTime("9999-12-31T23:30-01:00", why));
     CHECK(why == "its UTC date falls outside the years 0001..9999");
 }
+
+TEST_CASE("Calendar: seconds since 1970 are the C library's, and come back as the same instant", "[tracer][sky]") {
+    for (int64_t s : {int64_t(0), int64_t(-1), int64_t(86399), int64_t(951782399), int64_t(1782070207),
+                      libcSeconds(1, 1, 1), libcSeconds(9999, 12, 31, 23, 59, 59), libcSeconds(1600, 2, 29, 12)}) {
+        INFO(s);
+        const auto t = instantFromUnixSeconds(s);
+        REQUIRE(t);
+        CHECK(unixSeconds(*t) == s);
+        std::tm c{};
+        const std::time_t tt = std::time_t(s);
+        gmtime_r(&tt, &c);
+        CHECK(t->year == c.tm_year + 1900);
+        CHECK(t->month == c.tm_mon + 1);
+        CHECK(t->day == c.tm_mday);
+        CHECK(t->hour == c.tm_hour);
+        CHECK(t->minute == c.tm_min);
+        CHECK(int(t->second) == c.tm_sec);
+    }
+    CHECK_FALSE(instantFromUnixSeconds(libcSeconds(1, 1, 1) - 1));
+    CHECK_FALSE(instantFromUnixSeconds(libcSeconds(9999, 12, 31, 23, 59, 59) + 1));
+}

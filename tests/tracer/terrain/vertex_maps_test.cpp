@@ -205,3 +205,19 @@ TEST_CASE("Vertex maps: occlusion walks and horizon walks agree at every vertex"
             }
     }
 }
+
+TEST_CASE("Vertex maps: many suns in one pass give each sun's own mask, in order", "[tracer][maps]") {
+    const HeightGrid g = pyramid();
+    const std::vector<glm::dvec2> suns{{radians(270.0), radians(44.0)}, {radians(270.0), radians(46.0)},
+                                       {radians(45.0), radians(5.0)}};
+    const MapRaster all = shadowMasks(g, suns, CellMethod::Bilinear);
+    REQUIRE(all.bands == 3);
+    for (int k = 0; k < 3; ++k) {
+        const MapRaster one = shadowMask(g, suns[size_t(k)].x, suns[size_t(k)].y, CellMethod::Bilinear);
+        for (int64_t j = 0; j < g.height(); ++j)
+            for (int64_t i = 0; i < g.width(); ++i) REQUIRE(all.at(i, j, k) == one.at(i, j));
+    }
+    // The east face in the 44-degree western sun is shadowed, in the 46-degree one lit (the faces slope 45).
+    CHECK(all.at(15, 10, 0) == 1.0f);
+    CHECK(all.at(15, 10, 1) == 0.0f);
+}
