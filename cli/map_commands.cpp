@@ -117,7 +117,14 @@ void addMapCommands(CLI::App& app, Commands& commands) {
             app.add_subcommand("viewshed", "Visibility from an observer per DEM vertex (1 visible, 0 hidden)");
         addDemOptions(*cmd, v.dem);
         cmd->add_option("-o,--output", v.output, "Output GeoTIFF (.tif) on the DEM's grid")->required();
-        cmd->add_option("--observer", t->observer, "Observer X,Y in the DEM's CRS (lon,lat with --lonlat)")->required();
+        auto* one = cmd->add_option("--observer", t->observer, "Observer X,Y in the DEM's CRS (lon,lat with --lonlat)");
+        auto* many = cmd->add_option("--observers", v.observersFile,
+                                     "Many observers: a CSV of X,Y[,HEIGHT] in the DEM's CRS or a vector file of points "
+                                     "(any GDAL reads); writes how many see each vertex");
+        one->excludes(many);
+        many->excludes(one);
+        cmd->add_option("--max-distance", v.maxDistanceM, "Targets farther than this (metres) are not seen (default 0: "
+                                                           "no limit)");
         cmd->add_flag("--lonlat", v.lonLat, "The observer is WGS84 longitude,latitude");
         cmd->add_option("--observer-height", v.observerHeightM, "Metres above the terrain (default 1.7)");
         cmd->add_option("--target-height", v.targetHeightM, "Metres above the terrain (default 0)");
@@ -126,7 +133,10 @@ void addMapCommands(CLI::App& app, Commands& commands) {
         addThreadsAndMethod(*cmd, v.threads, t->method);
         commands.push_back({cmd, [t] {
                                 return guarded([&] {
-                                    if (!parsePair(t->observer, t->options.observerX, t->options.observerY))
+                                    if (t->observer.empty() && t->options.observersFile.empty())
+                                        throw InputError("viewshed: give --observer X,Y or --observers FILE");
+                                    if (!t->observer.empty() &&
+                                        !parsePair(t->observer, t->options.observerX, t->options.observerY))
                                         throw InputError(
                                             fmt::format("--observer: expected X,Y, found '{}'", t->observer));
                                     t->options.method = parseMethodOption(t->method);

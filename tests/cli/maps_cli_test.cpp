@@ -7,6 +7,7 @@
 #include <ogr_spatialref.h>
 
 #include <filesystem>
+#include <fstream>
 #include <memory>
 
 using namespace terracast::testing;
@@ -251,5 +252,79 @@ TEST_CASE("CLI: shadow --sun-time writes one band per time, in order, with the s
     CHECK(bad.exitCode == 2);
     CHECK(bad.err.find("END is before START") != std::string::npos);
     CHECK_FALSE(fs::exists(dir / "bad.tif"));
+    fs::remove_all(dir);
+}
+
+TEST_CASE("CLI: viewshed from many observers counts them and a vector file in another CRS gives the same count",
+          "[cli][maps]") {
+    const fs::path dir = fs::temp_directory_path() / ("terracast-maps-observers-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::string helens =
+        std::string(TERRACAST_SOURCE_DIR) + "/data-samples/usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif";
+    const double pts[3][2] = {{562000.0, 5115000.0}, {563500.0, 5116500.0}, {561000.0, 5113500.0}};
+    {
+        std::ofstream csv(dir / "obs.csv");
+        csv << "x,y\n";
+        for (const auto& p : pts) csv << fmt::format("{},{}\n", p[0], p[1]);
+    }
+    // The same points as WGS84 GeoJSON, converted here by OGR from the DEM's CRS.
+    {
+        GDALAllRegister();
+        std::unique_ptr<GDALDataset> d(GDALDataset::Open(helens.c_str(), GDAL_OF_RASTER));
+        REQUIRE(d);
+        OGRSpatialReference utm, wgs;
+        utm.importFromWkt(d->GetProjectionRef());
+        utm.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+        wgs.importFromEPSG(4326);
+        wgs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+        std::unique_ptr<OGRCoordinateTransformation> t(OGRCreateCoordinateTransformation(&utm, &wgs));
+        REQUIRE(t);
+        std::ofstream json(dir / "obs.geojson");
+        json << "{\"type\":\"FeatureCollection\",\"features\":[";
+        for (int k = 0; k < 3; ++k) {
+            double x = pts[k][0], y = pts[k][1];
+            REQUIRE(t->Transform(1, &x, &y));
+            json << (k ? "," : "") << fmt::format("{{\"type\":\"Feature\",\"properties\":{{}},\"geometry\":{{\"type\":"
+                                                  "\"Point\",\"coordinates\":[{:.12f},{:.12f}]}}}}",
+                                                  x, y);
+        }
+        json << "]}\n";
+    }
+    auto run = [&](const std::string& args) {
+        const auto r = runTerracast("viewshed '" + helens + "' " + args);
+        INFO(args << "\n" << r.err);
+        REQUIRE(r.exitCode == 0);
+    };
+    run("--observers '" + (dir / "obs.csv").string() + "' -o '" + (dir / "count.tif").string() + "'");
+    run("--observers '" + (dir / "obs.geojson").string() + "' -o '" + (dir / "json.tif").string() + "'");
+    for (int k = 0; k < 3; ++k)
+        run(fmt::format("--observer {},{} -o '{}'", pts[k][0], pts[k][1], (dir / fmt::format("one{}.tif", k)).string()));
+    run(fmt::format("--observer {},{} --max-distance 2000 -o '{}'", pts[0][0], pts[0][1], (dir / "near.tif").string()));
+    auto read = [](const fs::path& p) {
+        std::unique_ptr<GDALDataset> ds(GDALDataset::Open(p.string().c_str(), GDAL_OF_RASTER));
+        REQUIRE(ds);
+        std::vector<float> v(size_t(ds->GetRasterXSize()) * size_t(ds->GetRasterYSize()));
+        REQUIRE(ds->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, ds->GetRasterXSize(), ds->GetRasterYSize(), v.data(),
+                                               ds->GetRasterXSize(), ds->GetRasterYSize(), GDT_Float32, 0, 0) == CE_None);
+        return v;
+    };
+    const auto count = read(dir / "count.tif"), json = read(dir / "json.tif"), near = read(dir / "near.tif");
+    const auto a = read(dir / "one0.tif"), b = read(dir / "one1.tif"), c = read(dir / "one2.tif");
+    int64_t seenByTwo = 0, mismatched = 0, cut = 0;
+    for (size_t k = 0; k < count.size(); ++k) {
+        if (a[k] == 255.0f) {
+            CHECK(count[k] == 255.0f);
+            continue;
+        }
+        REQUIRE(count[k] == a[k] + b[k] + c[k]);
+        seenByTwo += count[k] >= 2.0f;
+        mismatched += json[k] != count[k];  // the GeoJSON's points, back from 12 decimals of a degree
+        cut += a[k] == 1.0f && near[k] == 0.0f;
+        if (near[k] == 1.0f) CHECK(a[k] == 1.0f);
+    }
+    CHECK(seenByTwo > 1000);
+    CHECK(mismatched <= int64_t(count.size() / 1000));
+    CHECK(cut > 100);  // visible, but beyond 2 km
     fs::remove_all(dir);
 }

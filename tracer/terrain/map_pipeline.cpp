@@ -2,6 +2,7 @@
 
 #include "loaders/crs.h"
 #include "loaders/output_paths.h"
+#include "loaders/points.h"
 #include "loaders/raster_writer.h"
 #include "tracer/core/angles.h"
 #include "tracer/core/errors.h"
@@ -257,49 +258,95 @@ void writeSkyViewMap(const SkyViewMapOptions& o, const RunListener& listener) {
                       "horizon walks", start);
 }
 
+namespace {
+
+// An observer's position in local metres: within the raster's footprint (half a cell beyond the outermost
+// vertices, where it stands on the nearest edge of the surface), else InputError naming `what`.
+void observerToLocal(const LoadedDem& dem, double x, double y, const std::string& what, double& xM, double& yM) {
+    sourceToLocal(dem, x, y, xM, yM);
+    const double halfX = 0.5 * dem.grid.cellSizeXM(), halfY = 0.5 * dem.grid.cellSizeYM();
+    if (!(xM >= -halfX && yM >= -halfY && xM <= dem.grid.extentXM() + halfX && yM <= dem.grid.extentYM() + halfY))
+        throw InputError(fmt::format("{}: {}, {} lies outside the DEM (x {:.3f} .. {:.3f}, y {:.3f} .. {:.3f} in its CRS)",
+                                     what, x, y, dem.geo.originX - 0.5 * sourcePixelSizeX(dem.geo),
+                                     dem.geo.originX + (double(dem.grid.cellsX()) + 0.5) * sourcePixelSizeX(dem.geo),
+                                     dem.geo.originY - 0.5 * sourcePixelSizeY(dem.geo),
+                                     dem.geo.originY + (double(dem.grid.cellsY()) + 0.5) * sourcePixelSizeY(dem.geo)));
+    xM = std::clamp(xM, 0.0, dem.grid.extentXM());
+    yM = std::clamp(yM, 0.0, dem.grid.extentYM());
+}
+
+}  // namespace
+
 void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) {
     checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
     if (!std::isfinite(o.observerHeightM) || !std::isfinite(o.targetHeightM) || !std::isfinite(o.curvatureCoeff))
         throw InputError("--observer-height, --target-height and --curvature-coeff must be finite numbers");
+    if (!(o.maxDistanceM >= 0.0) || !std::isfinite(o.maxDistanceM))
+        throw InputError(fmt::format("viewshed --max-distance: expected metres >= 0, found {}", o.maxDistanceM));
     ViewshedSettings s;
     s.method = requireDirectMethod(o.method, "viewshed");
     const LoadedDem dem = loadDemSource(o.dem, listener);
-    double x = o.observerX, y = o.observerY;
-    if (o.lonLat) lonLatToSource(dem.geo, o.observerX, o.observerY, x, y);
-    sourceToLocal(dem, x, y, s.observerXM, s.observerYM);
-    // The raster's pixels reach half a cell beyond the outermost vertices: an observer there stands on the
-    // nearest edge of the surface.
-    const double halfX = 0.5 * dem.grid.cellSizeXM(), halfY = 0.5 * dem.grid.cellSizeYM();
-    if (s.observerXM < -halfX || s.observerYM < -halfY || s.observerXM > dem.grid.extentXM() + halfX ||
-        s.observerYM > dem.grid.extentYM() + halfY || !std::isfinite(s.observerXM) || !std::isfinite(s.observerYM))
-        throw InputError(fmt::format("--observer: {}, {} lies outside the DEM (x {:.3f} .. {:.3f}, y {:.3f} .. {:.3f} "
-                                     "in its CRS)",
-                                     o.observerX, o.observerY, dem.geo.originX - 0.5 * sourcePixelSizeX(dem.geo),
-                                     dem.geo.originX + (double(dem.grid.cellsX()) + 0.5) * sourcePixelSizeX(dem.geo),
-                                     dem.geo.originY - 0.5 * sourcePixelSizeY(dem.geo),
-                                     dem.geo.originY + (double(dem.grid.cellsY()) + 0.5) * sourcePixelSizeY(dem.geo)));
-    s.observerXM = std::clamp(s.observerXM, 0.0, dem.grid.extentXM());
-    s.observerYM = std::clamp(s.observerYM, 0.0, dem.grid.extentYM());
-    s.observerHeightM = o.observerHeightM;
+    // The observers: one from --observer, or every point of --observers.
+    std::vector<SitePoint> sites;
+    if (!o.observersFile.empty()) {
+        sites = readSitePoints(o.observersFile, dem.geo);
+    } else {
+        double x = o.observerX, y = o.observerY;
+        if (o.lonLat) lonLatToSource(dem.geo, o.observerX, o.observerY, x, y);
+        sites.push_back({x, y, std::nullopt, "--observer"});
+    }
+    std::vector<glm::dvec3> observers;  // local x, y and height above the terrain
+    for (const SitePoint& p : sites) {
+        double xM = 0.0, yM = 0.0;
+        observerToLocal(dem, p.x, p.y, p.where, xM, yM);
+        observers.push_back({xM, yM, p.heightM.value_or(o.observerHeightM)});
+    }
     s.targetHeightM = o.targetHeightM;
     s.curvatureCoeff = o.curvatureCoeff;
+    s.maxDistanceM = o.maxDistanceM;
     s.threads = o.threads;
-    s.progress = listener.progress;
     listener.at("viewshed");
     const auto start = std::chrono::steady_clock::now();
-    const MapRaster vis = viewshed(dem.grid, s);
+    MapRaster count;
+    const size_t n = observers.size();
+    for (size_t k = 0; k < n; ++k) {
+        s.observerXM = observers[k].x;
+        s.observerYM = observers[k].y;
+        s.observerHeightM = observers[k].z;
+        if (listener.progress)
+            s.progress = [&, k](double f, int64_t rays) {
+                listener.progress((double(k) + f) / double(n), int64_t(k) * int64_t(count.values.size()) + rays);
+            };
+        MapRaster one;
+        try {
+            one = viewshed(dem.grid, s);
+        } catch (const GridError& e) {
+            throw InputError(fmt::format("{}: {}", sites[k].where, e.what()));
+        }
+        if (k == 0) count = std::move(one);
+        else
+            for (size_t v = 0; v < count.values.size(); ++v) count.values[v] += one.values[v];
+    }
+    const bool many = n > 1;
     RasterLabels labels;
-    labels.bands = {"visible from the observer: 1 visible, 0 hidden"};
+    labels.bands = {many ? "observers that see the vertex" : "visible from the observer: 1 visible, 0 hidden"};
     labels.units = {"1"};
     labels.metadata = {{"TERRACAST_PRODUCT", "viewshed"},
-                       {"TERRACAST_OBSERVER", fmt::format("{},{}", o.observerX, o.observerY)},
+                       {"TERRACAST_OBSERVERS", many ? o.observersFile : fmt::format("{},{}", o.observerX, o.observerY)},
+                       {"TERRACAST_OBSERVER_COUNT", std::to_string(n)},
                        {"TERRACAST_OBSERVER_HEIGHT_M", number(o.observerHeightM)},
                        {"TERRACAST_TARGET_HEIGHT_M", number(o.targetHeightM)},
+                       {"TERRACAST_MAX_DISTANCE_M", number(o.maxDistanceM)},
                        {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
                        {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
-    writeVertexRaster(o.output, dem, vis, RasterType::Byte, 255.0, std::move(labels));
-    const int64_t valid = int64_t(std::count_if(vis.values.begin(), vis.values.end(), [](float v) { return !std::isnan(v); }));
-    tellRasterSummary(listener, "viewshed", o.output, vis, valid, "sight lines", start);
+    // Counts up to 254 fit a byte beside the nodata value 255.
+    const bool bytes = n <= 254;
+    writeVertexRaster(o.output, dem, count, bytes ? RasterType::Byte : RasterType::Float32, bytes ? 255.0 : -9999.0,
+                      std::move(labels));
+    const int64_t valid = int64_t(std::count_if(count.values.begin(), count.values.end(), [](float v) { return !std::isnan(v); }));
+    if (many) listener.tell(fmt::format("{} observers from {}", n, o.observersFile));
+    tellRasterSummary(listener, many ? "cumulative viewshed" : "viewshed", o.output, count, valid * int64_t(n),
+                      "sight lines", start);
 }
 
 }  // namespace terracast

@@ -72,6 +72,8 @@ struct ViewshedMapOptions {
     double observerHeightM = 1.7;      // above the terrain
     double targetHeightM = 0.0;        // above the terrain
     double curvatureCoeff = 0.85714;   // as gdal_viewshed's -cc; 0 = flat earth
+    double maxDistanceM = 0.0;         // targets farther are not seen; 0 = no limit
+    std::string observersFile;         // when set: many observers (readSitePoints), the count that see each vertex
     SurfaceMethod method = SurfaceMethod::Bilinear;
     int threads = 0;
 };

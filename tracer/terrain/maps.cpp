@@ -368,6 +368,7 @@ MapRaster viewshed(const HeightGrid& grid, const ViewshedSettings& s) {
         const glm::dvec3 target{double(i) * g->cellSizeXM(), double(j) * g->cellSizeYM(),
                                 double(g->at(i, j)) + s.targetHeightM};
         const glm::dvec3 d = target - eye;
+        if (s.maxDistanceM > 0.0 && d.x * d.x + d.y * d.y > s.maxDistanceM * s.maxDistanceM) return 0.0f;
         const double len = glm::length(d);
         if (len <= endGap) return 1.0f;
         // The sight line stops just short of the target, so a target on the surface does not hide itself.

@@ -93,6 +93,7 @@ struct ViewshedSettings {
     double observerHeightM = 1.7;      // above the terrain
     double targetHeightM = 0.0;        // above the terrain at each vertex
     double curvatureCoeff = 0.85714;   // as gdal_viewshed: 1 - refraction coefficient; 0 = flat earth
+    double maxDistanceM = 0.0;         // targets farther (horizontally) are not seen; 0 = no limit
     double earthRadiusM = 6378137.0;
     CellMethod method = CellMethod::Bilinear;
     int threads = 0;
