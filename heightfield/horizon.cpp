@@ -19,6 +19,14 @@ public:
           z0_(g.at(i, j)), k_(s.dropPerSquareM), triangles_(triangles), best_(floor) {}
 
     double best() const { return best_; }
+    double bestDistance() const { return bestT_; }
+    // Starts the supremum at a known surface point's slope (a lower bound of it), at distance t.
+    void seed(double t, double slope) {
+        if (slope > best_) {
+            best_ = slope;
+            bestT_ = t;
+        }
+    }
 
     // The parameter at which the line crosses the grid line x = c (y = c), through the reciprocal: every crossing
     // comes from these two functions, so the walk's steps and block exits agree on the order of crossings.
@@ -38,24 +46,29 @@ public:
     // The point at distance t > 0 with surface height h (a division only when it raises the horizon).
     void consider(double t, double h) {
         const double rise = h - z0_ - k_ * t * t;
-        if (rise > best_ * t) best_ = std::max(best_, rise / t);
+        if (rise > best_ * t && rise / t > best_) {
+            best_ = rise / t;
+            bestT_ = t;
+        }
     }
 
     // A stretch [ta, tb] over which the surface height along the line is h(t) = hA + slope (t - ta) + c (t - ta)^2,
     // evaluated exactly by `at`. The slope's supremum over the stretch is at an end or where its derivative
-    // vanishes: with H(t) = alpha + beta t + gamma t^2 the surface less the vertex and the drop, d(H / t) / dt = 0
-    // at t^2 = alpha / gamma. At ta = 0 (the vertex itself, hA = z0) the limit is the slope in t.
+    // vanishes: with H(t) = alpha + beta t + gamma t^2 the surface less the vertex and the drop, d(H / t) / dt =
+    // (gamma t^2 - alpha) / t^2 vanishes at t^2 = alpha / gamma, a maximum only when gamma < 0 (and so alpha < 0;
+    // with gamma > 0 it is a minimum). At ta = 0 (the vertex itself, hA = z0) the limit is the slope in t.
     template <class At>
     void stretch(double ta, double tb, double hA, double slope, double c, At&& at) {
-        if (ta == 0.0) best_ = std::max(best_, slope);
+        if (ta == 0.0) seed(0.0, slope);
         else if (ta != lastEnd_) consider(ta, hA);  // else the stretch before ended here, at the same point
         consider(tb, at(tb));
         lastEnd_ = tb;
-        const double alpha = hA - z0_ - slope * ta + c * ta * ta, gamma = c - k_;
-        if (gamma != 0.0) {
-            const double r = alpha / gamma;
-            if (r > 0.0) {
-                const double ts = std::sqrt(r);
+        const double gamma = c - k_;
+        if (gamma < 0.0) {
+            // ta^2 < alpha / gamma < tb^2, multiplied through by gamma < 0: no division unless the maximum is inside.
+            const double alpha = hA - z0_ - slope * ta + c * ta * ta;
+            if (alpha < gamma * ta * ta && alpha > gamma * tb * tb) {
+                const double ts = std::sqrt(alpha / gamma);
                 if (ts > ta && ts < tb) consider(ts, at(ts));
             }
         }
@@ -121,12 +134,14 @@ private:
     bool triangles_;
     double best_;
     double lastEnd_ = -1.0;  // where the last stretch solved ended
+    double bestT_ = 0.0;     // the distance of the point that gave best_
 };
 
 // The walk behind horizonTangent and horizonAbove: the supremum of the slopes, or `floor` when none exceeds it;
 // with `stopAbove`, it ends as soon as one does.
 double walkHorizon(const HeightGrid& g, int64_t i, int64_t j, double dirX, double dirY, CellMethod method,
-                   const HorizonSearch& search, HorizonCounters* counters, double floor, bool stopAbove) {
+                   const HorizonSearch& search, HorizonCounters* counters, double floor, bool stopAbove,
+                   double hintM = 0.0, double* distanceM = nullptr) {
     if (method == CellMethod::Nearest) throw GridError("the horizon walk needs a surface through the vertices, not nearest");
     const double norm = std::hypot(dirX, dirY);
     if (!(norm > 0.0)) return floor;
@@ -135,6 +150,29 @@ double walkHorizon(const HeightGrid& g, int64_t i, int64_t j, double dirX, doubl
     if (std::abs(du) < 1e-12 * std::abs(dv)) du = 0.0;
     if (std::abs(dv) < 1e-12 * std::abs(du)) dv = 0.0;
     HorizonWalk walk(g, i, j, du, dv, method == CellMethod::Triangles, search, floor);
+    if (hintM > 1e-3 * std::min(g.cellSizeXM(), g.cellSizeYM()) && hintM <= search.maxDistanceM) {
+        // The surface point at the hint's distance along the line, when a valid cell holds it: its slope is a lower
+        // bound of the supremum, from which the walk starts (and so skips more). A thousandth of a cell out at
+        // least, so that the rounding of h - z0 stays small against the distance; and lowered by a billionth, so
+        // that the walk still solves the cell the point lies in and returns its own value, as without a hint.
+        const double u = double(i) + hintM * du, v = double(j) + hintM * dv;
+        if (u >= 0.0 && v >= 0.0 && u <= double(g.cellsX()) && v <= double(g.cellsY())) {
+            const int64_t ci = std::min(int64_t(u), g.cellsX() - 1), cj = std::min(int64_t(v), g.cellsY() - 1);
+            if (g.cellValid(ci, cj)) {
+                const double fu = u - double(ci), fv = v - double(cj);
+                const double h00 = g.at(ci, cj), h10 = g.at(ci + 1, cj), h01 = g.at(ci, cj + 1), h11 = g.at(ci + 1, cj + 1);
+                double h = 0.0;
+                if (method != CellMethod::Triangles)
+                    h = h00 + (h10 - h00) * fu + (h01 - h00) * fv + (h00 - h10 - h01 + h11) * fu * fv;
+                else if (fu + fv <= 1.0)
+                    h = h00 + (h10 - h00) * fu + (h01 - h00) * fv;
+                else
+                    h = h11 + (h11 - h01) * (fu - 1.0) + (h11 - h10) * (fv - 1.0);
+                const double slope = (h - double(g.at(i, j)) - search.dropPerSquareM * hintM * hintM) / hintM;
+                walk.seed(hintM, slope - 1e-9 * (1.0 + std::abs(slope)));
+            }
+        }
+    }
 
     // The cell the line leaves the vertex over; along a grid line, the column (row) on the line's east (north)
     // side, or its west (south) side on the grid's last line, standing for both.
@@ -228,6 +266,7 @@ double walkHorizon(const HeightGrid& g, int64_t i, int64_t j, double dirX, doubl
         counters->cellsVisited += visited;
         counters->blocksSkipped += skipped;
     }
+    if (distanceM) *distanceM = walk.bestDistance();
     return walk.best();
 }
 
@@ -236,6 +275,13 @@ double walkHorizon(const HeightGrid& g, int64_t i, int64_t j, double dirX, doubl
 double horizonTangent(const HeightGrid& g, int64_t i, int64_t j, double dirX, double dirY, CellMethod method,
                       const HorizonSearch& search, HorizonCounters* counters) {
     return walkHorizon(g, i, j, dirX, dirY, method, search, counters, -kInf, false);
+}
+
+HorizonPoint horizonPoint(const HeightGrid& g, int64_t i, int64_t j, double dirX, double dirY, CellMethod method,
+                          const HorizonSearch& search, double hintDistanceM, HorizonCounters* counters) {
+    HorizonPoint p;
+    p.tangent = walkHorizon(g, i, j, dirX, dirY, method, search, counters, -kInf, false, hintDistanceM, &p.distanceM);
+    return p;
 }
 
 bool horizonAbove(const HeightGrid& g, int64_t i, int64_t j, double dirX, double dirY, double tangent,

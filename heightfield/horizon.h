@@ -39,6 +39,18 @@ struct HorizonCounters {
 double horizonTangent(const HeightGrid& grid, int64_t i, int64_t j, double dirX, double dirY, CellMethod method,
                       const HorizonSearch& search = {}, HorizonCounters* counters = nullptr);
 
+// The horizon's tangent (as horizonTangent) and the horizontal distance of the surface point that gives it (0 when
+// it is the slope at the vertex itself). `hintDistanceM` > 0 names a distance along the line where the horizon
+// is likely to lie (the distance a neighbouring vertex's horizon point has, carried over): the surface there
+// starts the walk as a lower bound, which lets it skip more. The answer is the same with or without a hint.
+struct HorizonPoint {
+    double tangent = -std::numeric_limits<double>::infinity();
+    double distanceM = 0.0;
+};
+HorizonPoint horizonPoint(const HeightGrid& grid, int64_t i, int64_t j, double dirX, double dirY, CellMethod method,
+                          const HorizonSearch& search = {}, double hintDistanceM = 0.0,
+                          HorizonCounters* counters = nullptr);
+
 // True when the horizon at vertex (i, j) towards (dirX, dirY) lies strictly above the slope `tangent`: a ray
 // from the vertex at that slope passes below the surface somewhere (a sun there is blocked; at exactly the
 // horizon it grazes and is not). The same walk as horizonTangent, ending at the first point above the slope and

@@ -166,3 +166,33 @@ TEST_CASE("Horizon walk: the exact supremum of a dense march over fractal terrai
     INFO(compared << " compared, worst " << worst << " degrees");
     CHECK(compared > 400);
 }
+
+TEST_CASE("Horizon walk: a hint changes the work and not the answer, and the distance names the horizon point",
+          "[heightfield][horizon]") {
+    const HeightGrid g = fractalTerrain({.size = 65, .seed = 9, .cellSizeM = 25.0, .offsetAt1KmM = 400.0});
+    std::mt19937_64 rng(3);
+    std::uniform_int_distribution<int64_t> I(0, 64);
+    std::uniform_real_distribution<double> A(0.0, 360.0), H(0.0, 1800.0);
+    int64_t hinted = 0;
+    for (CellMethod method : {CellMethod::Bilinear, CellMethod::Triangles})
+        for (int k = 0; k < 400; ++k) {
+            const int64_t i = I(rng), j = I(rng);
+            const double az = A(rng) * kPiHere / 180.0, dx = std::sin(az), dy = std::cos(az);
+            HorizonCounters plain;
+            const HorizonPoint exact = horizonPoint(g, i, j, dx, dy, method, {}, 0.0, &plain);
+            // Any hint: far off, near the horizon point, on it, or next to the vertex (where h - z0 is mostly rounding).
+            for (double hint : {H(rng), exact.distanceM * 1.01, exact.distanceM, 3e-14, 1e-4, 0.03}) {
+                HorizonCounters helped;
+                const HorizonPoint p = horizonPoint(g, i, j, dx, dy, method, {}, hint, &helped);
+                INFO(cellMethodName(method) << " vertex " << i << "," << j << " azimuth " << az << " hint " << hint);
+                CHECK(p.tangent == Approx(exact.tangent).epsilon(1e-12).margin(1e-15));
+                if (hint == exact.distanceM) hinted += helped.cellsVisited < plain.cellsVisited;
+            }
+            if (std::isinf(exact.tangent) || exact.distanceM == 0.0) continue;
+            // The surface at the returned distance has exactly that slope.
+            const double u = double(i) + exact.distanceM * dx / g.cellSizeXM(), v = double(j) + exact.distanceM * dy / g.cellSizeYM();
+            const double h = surfaceAt(g, std::clamp(u, 0.0, 64.0), std::clamp(v, 0.0, 64.0), method == CellMethod::Triangles);
+            CHECK((h - g.at(i, j)) / exact.distanceM == Approx(exact.tangent).epsilon(1e-9).margin(1e-12));
+        }
+    CHECK(hinted > 100);  // a hint at the horizon point saves cells
+}

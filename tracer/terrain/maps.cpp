@@ -44,6 +44,57 @@ MapRaster perVertexBands(const HeightGrid& grid, int bands, int threads, const M
     return r;
 }
 
+// The same, a row at a time: f(i, j, out, chainStart) runs along each row from west to east, chainStart true at
+// every 64th vertex. What f carries from one vertex to the next (horizon hints) starts afresh there, so the
+// results do not depend on how rows are shared among threads.
+template <class F>
+MapRaster perVertexRows(const HeightGrid& grid, int bands, int threads, const MapProgress& progress,
+                        int64_t raysPerVertex, F&& f) {
+    MapRaster r;
+    r.width = grid.width();
+    r.height = grid.height();
+    r.bands = bands;
+    r.values.assign(size_t(r.width * r.height * bands), kNaN);
+    std::atomic<int64_t> done{0};
+    std::mutex progressMutex;
+    const double total = double(r.width) * double(r.height);
+    parallelForTiles(1, int(r.height), 4, threads, [&](int, int y0, int, int y1) {
+        for (int j = y0; j < y1; ++j)
+            for (int64_t i = 0; i < r.width; ++i)
+                f(i, int64_t(j), &r.values[size_t((int64_t(j) * r.width + i) * bands)], i % 64 == 0);
+        const int64_t now = done += int64_t(r.width) * (y1 - y0);
+        if (progress) {
+            std::lock_guard lock(progressMutex);
+            progress(double(now) / total, now * raysPerVertex);
+        }
+    });
+    return r;
+}
+
+// Horizons along one azimuth for the vertices of a row, west to east: each walk starts from the surface where the
+// vertex to its west found its horizon (horizonPoint's hint), which lets it skip more; same answers.
+class HorizonChain {
+public:
+    HorizonChain(const HeightGrid& g, double azimuthRad, CellMethod method, const HorizonSearch& search)
+        : g_(g), dirX_(std::sin(azimuthRad)), dirY_(std::cos(azimuthRad)), method_(method), search_(search) {}
+    // The tangent at vertex (i, j); `restart` forgets the last vertex.
+    double tangent(int64_t i, int64_t j, bool restart) {
+        // The west neighbour's horizon point, seen along this vertex's line: one cell further east.
+        const double hint = restart || !(lastDistanceM_ > 0.0) ? 0.0 : lastDistanceM_ - g_.cellSizeXM() * dirX_;
+        const HorizonPoint p = horizonPoint(g_, i, j, dirX_, dirY_, method_, search_, hint);
+        lastDistanceM_ = p.distanceM;
+        return p.tangent;
+    }
+    void skip() { lastDistanceM_ = 0.0; }
+
+private:
+    const HeightGrid& g_;
+    double dirX_, dirY_;
+    CellMethod method_;
+    HorizonSearch search_;
+    double lastDistanceM_ = 0.0;
+};
+
 // One value per vertex: f(i, j).
 template <class F>
 MapRaster perVertex(const HeightGrid& grid, int threads, const MapProgress& progress, int64_t raysPerVertex, F&& f) {
@@ -270,21 +321,27 @@ MapRaster shadowMasks(const HeightGrid& grid, const std::vector<glm::dvec2>& sun
 MapRaster horizonMaps(const HeightGrid& grid, const std::vector<double>& azimuthsRad, CellMethod method, int threads,
                       const HorizonSearch& search, const MapProgress& progress) {
     const int n = int(azimuthsRad.size());
-    return perVertexBands(grid, n, threads, progress, n, [&](int64_t i, int64_t j, float* out) {
-        if (!exactAtVertices(method)) {
+    if (!exactAtVertices(method))
+        return perVertexBands(grid, n, threads, progress, n, [&](int64_t i, int64_t j, float* out) {
             // Nearest has no surface at the vertex: bisection over occlusion from the surface point under it.
             const VertexView vertex(grid, i, j, method);
             if (!vertex.onSurface()) return;
             for (int k = 0; k < n; ++k)
                 out[k] = float(degrees(bisectHorizon(azimuthsRad[size_t(k)], 1e-7,
                                                      [&](const glm::dvec3& d) { return vertex.blocked(d); })));
+        });
+    // One chain per azimuth and row (the rows' chains live in the row loop's thread).
+    return perVertexRows(grid, n, threads, progress, n, [&](int64_t i, int64_t j, float* out, bool chainStart) {
+        thread_local std::vector<HorizonChain> chains;
+        if (i == 0) {
+            chains.clear();
+            for (double az : azimuthsRad) chains.emplace_back(grid, az, method, search);
+        }
+        if (!vertexOnSurface(grid, i, j)) {
+            for (auto& c : chains) c.skip();
             return;
         }
-        if (!vertexOnSurface(grid, i, j)) return;
-        for (int k = 0; k < n; ++k) {
-            const double az = azimuthsRad[size_t(k)];
-            out[k] = float(degrees(std::atan(horizonTangent(grid, i, j, std::sin(az), std::cos(az), method, search))));
-        }
+        for (int k = 0; k < n; ++k) out[k] = float(degrees(std::atan(chains[size_t(k)].tangent(i, j, chainStart))));
     });
 }
 
@@ -309,26 +366,38 @@ MapRaster skyView(const HeightGrid& grid, const SkyViewSettings& s) {
                            std::move(valid));
     HorizonSearch belowSearch = s.search;
     belowSearch.dropPerSquareM = -s.search.dropPerSquareM;  // the earth's drop lifts the upside-down terrain
-    std::vector<glm::dvec2> dirs;
-    for (int k = 0; k < s.directions; ++k) {
-        const double az = 2.0 * kPi * double(k) / double(s.directions);
-        dirs.push_back({std::sin(az), std::cos(az)});
-    }
-    return perVertexBands(grid, 3, s.threads, s.progress, 2 * int64_t(dirs.size()), [&](int64_t i, int64_t j, float* out) {
-        if (!vertexOnSurface(grid, i, j)) return;
+    std::vector<double> azimuths;
+    for (int k = 0; k < s.directions; ++k) azimuths.push_back(2.0 * kPi * double(k) / double(s.directions));
+    const int64_t n = int64_t(azimuths.size());
+    return perVertexRows(grid, 3, s.threads, s.progress, 2 * n, [&](int64_t i, int64_t j, float* out, bool chainStart) {
+        // Per direction, a chain over the terrain and one over the terrain upside down.
+        thread_local std::vector<HorizonChain> up, down;
+        if (i == 0) {
+            up.clear();
+            down.clear();
+            for (double az : azimuths) {
+                up.emplace_back(grid, az, s.method, s.search);
+                down.emplace_back(below, az, s.method, belowSearch);
+            }
+        }
+        if (!vertexOnSurface(grid, i, j)) {
+            for (auto& c : up) c.skip();
+            for (auto& c : down) c.skip();
+            return;
+        }
         double sinSum = 0.0, above = 0.0, under = 0.0;
         int seen = 0;
-        for (const glm::dvec2& d : dirs) {
-            const double up = horizonTangent(grid, i, j, d.x, d.y, s.method, s.search);
-            if (std::isinf(up)) continue;  // no surface that way: an open sky, and no openness term
-            const double down = horizonTangent(below, i, j, d.x, d.y, s.method, belowSearch);
-            const double g = std::atan(up);
+        for (int64_t k = 0; k < n; ++k) {
+            const double t = up[size_t(k)].tangent(i, j, chainStart);
+            const double lowest = down[size_t(k)].tangent(i, j, chainStart);
+            if (std::isinf(t)) continue;  // no surface that way: an open sky, and no openness term
+            const double g = std::atan(t);
             sinSum += std::sin(std::max(0.0, g));
             above += 90.0 - degrees(g);
-            under += 90.0 - degrees(std::atan(down));
+            under += 90.0 - degrees(std::atan(lowest));
             ++seen;
         }
-        out[0] = float(1.0 - sinSum / double(dirs.size()));
+        out[0] = float(1.0 - sinSum / double(n));
         if (seen > 0) {
             out[1] = float(above / seen);
             out[2] = float(under / seen);
