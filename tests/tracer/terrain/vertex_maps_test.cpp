@@ -141,7 +141,17 @@ TEST_CASE("Vertex maps: horizons agree with a brute-force march over a real DEM'
     const HeightGrid mountains(121, 121, s.cellSizeXM(), s.cellSizeYM(), std::move(window));
     const LoadedDem holed = loadDem(std::string(TERRACAST_SOURCE_DIR) +
                                     "/data-samples/landfire-storm-lake-mt-utm12n-int16-small-nodata.tif");
-    for (const HeightGrid* grid : {&mountains, &holed.grid}) {
+    // A geographic DEM (degrees; metric cells from its latitude), where vertices must be evaluated from their own
+    // indices and not from a probe that rounding can move into the west or south neighbour cell: a window of
+    // the Nice coast tile, sea and all.
+    const LoadedDem nice = loadDem(std::string(TERRACAST_SOURCE_DIR) +
+                                   "/data-samples/srtm3-n43e007-nice-maritime-alps-coast-geographic-int16.tif");
+    std::vector<float> coast;
+    const int64_t n0 = nice.grid.width() / 3, m0 = nice.grid.height() / 3;
+    for (int64_t j = m0; j < m0 + 121; ++j)
+        for (int64_t i = n0; i < n0 + 121; ++i) coast.push_back(nice.grid.at(i, j));
+    const HeightGrid geographic(121, 121, nice.grid.cellSizeXM(), nice.grid.cellSizeYM(), std::move(coast));
+    for (const HeightGrid* grid : {&mountains, &holed.grid, &geographic}) {
     const HeightGrid& g = *grid;
     std::mt19937_64 rng(7);
     std::uniform_int_distribution<int64_t> I(0, g.width() - 1), J(0, g.height() - 1);
