@@ -168,8 +168,12 @@ double walkHorizon(const HeightGrid& g, int64_t i, int64_t j, double dirX, doubl
                     h = h00 + (h10 - h00) * fu + (h01 - h00) * fv;
                 else
                     h = h11 + (h11 - h01) * (fu - 1.0) + (h11 - h10) * (fv - 1.0);
-                const double slope = (h - double(g.at(i, j)) - search.dropPerSquareM * hintM * hintM) / hintM;
-                walk.seed(hintM, slope - 1e-9 * (1.0 + std::abs(slope)));
+                const double z0 = g.at(i, j);
+                const double slope = (h - z0 - search.dropPerSquareM * hintM * hintM) / hintM;
+                // Lowered past the rounding of h - z0 (a few ulps of the heights, over the distance) as well.
+                const double margin = 1e-9 * (1.0 + std::abs(slope)) +
+                                      16.0 * std::numeric_limits<double>::epsilon() * (std::abs(h) + std::abs(z0)) / hintM;
+                walk.seed(hintM, slope - margin);
             }
         }
     }
@@ -188,13 +192,10 @@ double walkHorizon(const HeightGrid& g, int64_t i, int64_t j, double dirX, doubl
         if (dv == 0.0 && j > 0 && j < ny && b == j) return g.cellValid(a, j - 1);
         return false;
     };
-    // Where the line leaves the grid (or the search radius).
-    const double tEnd = std::min(search.maxDistanceM, std::min(du > 0.0   ? double(nx - i) / du
-                                                               : du < 0.0 ? double(-i) / du
-                                                                          : kInf,
-                                                               dv > 0.0   ? double(ny - j) / dv
-                                                               : dv < 0.0 ? double(-j) / dv
-                                                                          : kInf));
+    // Where the line leaves the grid (or the search radius), from the same crossing parameters as the cells' exits.
+    const double tEnd = std::min(search.maxDistanceM,
+                                 std::min(du > 0.0 ? walk.atX(nx) : du < 0.0 ? walk.atX(0) : kInf,
+                                          dv > 0.0 ? walk.atY(ny) : dv < 0.0 ? walk.atY(0) : kInf));
     const double top = g.maxHeightM();
     const auto pyramid = g.pyramidView();
     const int levels = g.pyramidLevels();

@@ -383,8 +383,9 @@ struct Walk {
     __attribute__((always_inline)) Visit visitCell(int64_t ci, int64_t cj, double tEnter, double tExit, CellSide entry,
                                                    ExitSide exitSide) {
         if (counting && counters) ++counters->cellsVisited;
-        // Along a grid line, the edge the ray runs on belongs to the valid cell beside a hole too.
-        if (!g.cellValid(ci, cj)) {
+        // Along a grid line, the edge the ray runs on belongs to the valid cell beside a hole too (for the surfaces
+        // through the vertices; nearest's flat squares have no shared edge).
+        if (shape != Shape::Nearest && !g.cellValid(ci, cj)) {
             if (altI >= 0 && g.cellValid(altI, cj)) ci = altI;
             else if (altJ >= 0 && g.cellValid(ci, altJ)) cj = altJ;
         }

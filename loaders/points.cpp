@@ -13,6 +13,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -23,28 +24,41 @@ namespace {
 using loader_support::QuietGdalErrors;
 using loader_support::registerGdalDrivers;
 
-// The fields of a text line, split at commas, semicolons, tabs and spaces.
+// The fields of a text line: split at its first separator among commas, semicolons and tabs (empty fields
+// kept, spaces around fields dropped), else at runs of spaces.
 std::vector<std::string> fieldsOf(const std::string& line) {
+    auto trim = [](std::string f) {
+        const size_t a = f.find_first_not_of(" \r"), b = f.find_last_not_of(" \r");
+        return a == std::string::npos ? std::string() : f.substr(a, b - a + 1);
+    };
     std::vector<std::string> out;
-    std::string field;
-    for (char c : line) {
-        if (c == ',' || c == ';' || c == '\t' || c == ' ' || c == '\r') {
-            if (!field.empty()) out.push_back(field);
-            field.clear();
-        } else {
-            field += c;
+    for (char sep : {',', ';', '\t'}) {
+        if (line.find(sep) == std::string::npos) continue;
+        size_t start = 0;
+        while (true) {
+            const size_t end = line.find(sep, start);
+            out.push_back(trim(line.substr(start, end == std::string::npos ? std::string::npos : end - start)));
+            if (end == std::string::npos) break;
+            start = end + 1;
         }
+        if (!out.empty() && out.back().empty()) out.pop_back();  // a trailing separator
+        return out;
     }
-    if (!field.empty()) out.push_back(field);
+    std::istringstream words(line);
+    for (std::string w; words >> w;) out.push_back(w);
     return out;
 }
 
+// A number, +infinity for one out of double's range (so that the finiteness check names it), none for text.
 std::optional<double> numberOf(const std::string& text) {
+    if (text.empty()) return std::nullopt;
     try {
         size_t used = 0;
         const double v = std::stod(text, &used);
         if (used != text.size()) return std::nullopt;
         return v;
+    } catch (const std::out_of_range&) {
+        return std::numeric_limits<double>::infinity();
     } catch (const std::exception&) {
         return std::nullopt;
     }
@@ -59,12 +73,14 @@ std::vector<SitePoint> readText(const std::string& path) {
     bool first = true;
     while (std::getline(in, line)) {
         ++number;
+        if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte-order mark
         const auto fields = fieldsOf(line);
-        if (fields.empty() || fields[0][0] == '#') continue;
+        if (fields.empty() || (!fields[0].empty() && fields[0][0] == '#')) continue;
         std::vector<std::optional<double>> values;
         for (const auto& f : fields) values.push_back(numberOf(f));
         const bool numeric = std::all_of(values.begin(), values.end(), [](const auto& v) { return v.has_value(); });
-        if (first && !numeric) {  // a header
+        const bool words = std::none_of(values.begin(), values.end(), [](const auto& v) { return v.has_value(); });
+        if (first && words) {  // a header: no field is a number
             first = false;
             continue;
         }

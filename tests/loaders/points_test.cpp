@@ -36,7 +36,7 @@ std::string errorOf(const std::string& file) {
 
 TEST_CASE("Points: CSV lines with a header, comments, heights and any separator", "[loaders][points]") {
     const Folder f;
-    const auto csv = f.write("a.csv", "# sites\nx;y;h\n10.5,20\n\n30\t40\t2.5\n 50 60 \n");
+    const auto csv = f.write("a.csv", "\xEF\xBB\xBF# sites\nx;y;h\n10.5,20,\n\n30\t40\t2.5\n 50 60 \n");
     const auto pts = readSitePoints(csv, GeoReference{});
     REQUIRE(pts.size() == 3);
     CHECK(pts[0].x == 10.5);
@@ -55,6 +55,11 @@ TEST_CASE("Points: bad files are one line naming the file and the line or featur
     CHECK(bad.find("bad.csv:2: expected X,Y or X,Y,HEIGHT") != std::string::npos);
     CHECK(errorOf(f.write("four.csv", "1,2,3,4\n")).find("four.csv:1") != std::string::npos);
     CHECK(errorOf(f.write("nan.csv", "1,nan\n")).find("finite") != std::string::npos);
+    CHECK(errorOf(f.write("huge.csv", "1e400,2\n")).find("huge.csv:1: expected finite numbers") != std::string::npos);
+    // An empty field is an error, not a shift of the next one into its place.
+    CHECK(errorOf(f.write("gap.csv", "1,,2\n")).find("gap.csv:1") != std::string::npos);
+    // A first line with a number in it is data, and a typo there is an error rather than a skipped header.
+    CHECK(errorOf(f.write("typo.csv", "10,2O\n30,40\n")).find("typo.csv:1") != std::string::npos);
     const std::string line = errorOf(f.write(
         "line.geojson", R"({"type":"FeatureCollection","features":[{"type":"Feature","properties":{},)"
                         R"("geometry":{"type":"LineString","coordinates":[[0,0],[1,1]]}}]})"));

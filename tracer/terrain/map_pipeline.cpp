@@ -9,6 +9,7 @@
 #include "tracer/core/resources.h"
 #include "tracer/core/text.h"
 #include "tracer/terrain/maps.h"
+#include "tracer/terrain/memory_model.h"
 
 #include <fmt/format.h>
 
@@ -32,13 +33,13 @@ struct RasterLabels {
 };
 
 // Writes a per-vertex map raster as a GeoTIFF on the DEM's own grid (NaN becomes `noData`).
-void writeVertexRaster(const std::string& path, const LoadedDem& dem, const MapRaster& r, RasterType type,
-                       double noData, RasterLabels labels) {
+void writeVertexRaster(const std::string& path, const LoadedDem& dem, MapRaster r, RasterType type, double noData,
+                       RasterLabels labels) {
     GridRaster out;
     out.width = r.width;
     out.height = r.height;
     out.bands = r.bands;
-    out.values = r.values;
+    out.values = std::move(r.values);
     out.hasNoData = true;
     out.noDataValue = noData;
     out.bandDescriptions = std::move(labels.bands);
@@ -53,8 +54,13 @@ void writeVertexRaster(const std::string& path, const LoadedDem& dem, const MapR
 }
 
 // The line that ends a raster command: what was written, its size, seconds, rays and peak memory.
+struct RasterShape {
+    int64_t width = 0, height = 0;
+    int bands = 1;
+    explicit RasterShape(const MapRaster& r) : width(r.width), height(r.height), bands(r.bands) {}
+};
 void tellRasterSummary(const RunListener& listener, const std::string& what, const std::string& path,
-                       const MapRaster& r, int64_t rays, const std::string& rayKind,
+                       const RasterShape& r, int64_t rays, const std::string& rayKind,
                        std::chrono::steady_clock::time_point start) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     listener.tell(fmt::format("{} {} ({} x {} vertices{}) in {:.2f} s, {} {} ({:.2f} M/s), peak memory {}", what, path,
@@ -104,12 +110,16 @@ void writeShadowSeries(const ShadowMapOptions& o, const RunListener& listener) {
                        {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
     listener.tell(fmt::format("{} sun times from {} to {}, the sun above the horizon at {} of them", o.sunTimes.size(),
                               formatUtc(o.sunTimes.front()), formatUtc(o.sunTimes.back()), up));
+    checkMemory(o.dem.path, o.dem.maxMemoryBytes, dem.grid,
+                4.0 * double(dem.grid.width()) * double(dem.grid.height()) * double(suns.size()),
+                fmt::format("{} shadow bands", suns.size()));
     listener.at("shadow");
     const auto start = std::chrono::steady_clock::now();
-    const MapRaster masks = shadowMasks(dem.grid, suns, method, o.threads, search, listener.progress);
-    writeVertexRaster(o.output, dem, masks, RasterType::Byte, 255.0, std::move(labels));
+    MapRaster masks = shadowMasks(dem.grid, suns, method, o.threads, search, listener.progress);
     const int64_t valid = int64_t(std::count_if(masks.values.begin(), masks.values.end(), [](float v) { return !std::isnan(v); }));
-    tellRasterSummary(listener, "shadow masks", o.output, masks, valid, "shadow walks", start);
+    const RasterShape shape(masks);
+    writeVertexRaster(o.output, dem, std::move(masks), RasterType::Byte, 255.0, std::move(labels));
+    tellRasterSummary(listener, "shadow masks", o.output, shape, valid, "shadow walks", start);
 }
 
 }  // namespace
@@ -181,7 +191,7 @@ void writeShadowMap(const ShadowMapOptions& o, const RunListener& listener) {
     listener.at("shadow");
     const auto start = std::chrono::steady_clock::now();
     const int samples = 16;
-    const MapRaster mask = shadowMask(dem.grid, radians(o.sunAzimuthDeg), radians(o.sunElevationDeg), method,
+    MapRaster mask = shadowMask(dem.grid, radians(o.sunAzimuthDeg), radians(o.sunElevationDeg), method,
                                       radians(0.5 * o.sunSizeDeg), samples, o.threads, search, listener.progress);
     const bool point = o.sunSizeDeg == 0.0;
     RasterLabels labels;
@@ -193,10 +203,11 @@ void writeShadowMap(const ShadowMapOptions& o, const RunListener& listener) {
                        {"TERRACAST_SUN_SIZE_DEG", number(o.sunSizeDeg)},
                        {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
     // A point sun gives 0 or 1: bytes, 255 for nodata; a disc gives fractions.
-    writeVertexRaster(o.output, dem, mask, point ? RasterType::Byte : RasterType::Float32, point ? 255.0 : -9999.0,
-                      std::move(labels));
     const int64_t valid = int64_t(std::count_if(mask.values.begin(), mask.values.end(), [](float v) { return !std::isnan(v); }));
-    tellRasterSummary(listener, "shadow mask", o.output, mask, valid * (point ? 1 : samples), "shadow walks", start);
+    const RasterShape shape(mask);
+    writeVertexRaster(o.output, dem, std::move(mask), point ? RasterType::Byte : RasterType::Float32,
+                      point ? 255.0 : -9999.0, std::move(labels));
+    tellRasterSummary(listener, "shadow mask", o.output, shape, valid * (point ? 1 : samples), "shadow walks", start);
 }
 
 void writeHorizonMap(const HorizonMapOptions& o, const RunListener& listener) {
@@ -221,10 +232,15 @@ void writeHorizonMap(const HorizonMapOptions& o, const RunListener& listener) {
                        {"TERRACAST_MAX_DISTANCE_M", number(o.maxDistanceM)},
                        {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
                        {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
-    const MapRaster horizon = horizonMaps(dem.grid, azimuths, method, o.threads, search, listener.progress);
-    writeVertexRaster(o.output, dem, horizon, RasterType::Float32, -9999.0, std::move(labels));
-    tellRasterSummary(listener, "horizon angles", o.output, horizon,
-                      int64_t(horizon.width * horizon.height) * horizon.bands, "horizon walks", start);
+    // The bands in float, and their copy as the GeoTIFF is written a block at a time (GDAL's cache).
+    checkMemory(o.dem.path, o.dem.maxMemoryBytes, dem.grid, 4.0 * double(dem.grid.width()) * double(dem.grid.height()) *
+                                                                double(azimuths.size()),
+                fmt::format("{} horizon bands", azimuths.size()));
+    MapRaster horizon = horizonMaps(dem.grid, azimuths, method, o.threads, search, listener.progress);
+    const RasterShape shape(horizon);
+    writeVertexRaster(o.output, dem, std::move(horizon), RasterType::Float32, -9999.0, std::move(labels));
+    tellRasterSummary(listener, "horizon angles", o.output, shape, shape.width * shape.height * shape.bands,
+                      "horizon walks", start);
 }
 
 void writeSkyViewMap(const SkyViewMapOptions& o, const RunListener& listener) {
@@ -243,7 +259,7 @@ void writeSkyViewMap(const SkyViewMapOptions& o, const RunListener& listener) {
     s.progress = listener.progress;
     listener.at("svf");
     const auto start = std::chrono::steady_clock::now();
-    const MapRaster r = skyView(dem.grid, s);
+    MapRaster r = skyView(dem.grid, s);
     RasterLabels labels;
     labels.bands = {"sky-view factor (share of the sky visible)", "positive openness", "negative openness"};
     labels.units = {"1", "degree", "degree"};
@@ -252,9 +268,10 @@ void writeSkyViewMap(const SkyViewMapOptions& o, const RunListener& listener) {
                        {"TERRACAST_MAX_DISTANCE_M", number(radius)},
                        {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
                        {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
-    writeVertexRaster(o.output, dem, r, RasterType::Float32, -9999.0, std::move(labels));
+    const RasterShape shape(r);
+    writeVertexRaster(o.output, dem, std::move(r), RasterType::Float32, -9999.0, std::move(labels));
     listener.tell(fmt::format("sky-view factor and openness: {} directions, search radius {:.1f} m", o.directions, radius));
-    tellRasterSummary(listener, "sky view", o.output, r, int64_t(r.width * r.height) * 2 * o.directions,
+    tellRasterSummary(listener, "sky view", o.output, shape, shape.width * shape.height * 2 * o.directions,
                       "horizon walks", start);
 }
 
@@ -327,25 +344,27 @@ void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) 
         else
             for (size_t v = 0; v < count.values.size(); ++v) count.values[v] += one.values[v];
     }
-    const bool many = n > 1;
+    const bool many = !o.observersFile.empty();
     RasterLabels labels;
     labels.bands = {many ? "observers that see the vertex" : "visible from the observer: 1 visible, 0 hidden"};
     labels.units = {"1"};
     labels.metadata = {{"TERRACAST_PRODUCT", "viewshed"},
                        {"TERRACAST_OBSERVERS", many ? o.observersFile : fmt::format("{},{}", o.observerX, o.observerY)},
                        {"TERRACAST_OBSERVER_COUNT", std::to_string(n)},
-                       {"TERRACAST_OBSERVER_HEIGHT_M", number(o.observerHeightM)},
+                       {"TERRACAST_OBSERVER_HEIGHT_M", many ? number(o.observerHeightM) + " unless the file gives one"
+                                                             : number(o.observerHeightM)},
                        {"TERRACAST_TARGET_HEIGHT_M", number(o.targetHeightM)},
                        {"TERRACAST_MAX_DISTANCE_M", number(o.maxDistanceM)},
                        {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
                        {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
     // Counts up to 254 fit a byte beside the nodata value 255.
     const bool bytes = n <= 254;
-    writeVertexRaster(o.output, dem, count, bytes ? RasterType::Byte : RasterType::Float32, bytes ? 255.0 : -9999.0,
-                      std::move(labels));
     const int64_t valid = int64_t(std::count_if(count.values.begin(), count.values.end(), [](float v) { return !std::isnan(v); }));
+    const RasterShape shape(count);
+    writeVertexRaster(o.output, dem, std::move(count), bytes ? RasterType::Byte : RasterType::Float32,
+                      bytes ? 255.0 : -9999.0, std::move(labels));
     if (many) listener.tell(fmt::format("{} observers from {}", n, o.observersFile));
-    tellRasterSummary(listener, many ? "cumulative viewshed" : "viewshed", o.output, count, valid * int64_t(n),
+    tellRasterSummary(listener, many ? "cumulative viewshed" : "viewshed", o.output, shape, valid * int64_t(n),
                       "sight lines", start);
 }
 

@@ -267,7 +267,11 @@ public:
         if (probe_) return blockedFrom(g_, *probe_, dir, method_);
         const double across = std::hypot(dir.x, dir.y);
         if (!(across > 0.0)) return dir.z <= 0.0;  // straight up is free; straight down is into the ground
-        return horizonAbove(g_, i_, j_, dir.x, dir.y, dir.z / across, method_, search);
+        if (dir.z > 0.0) return horizonAbove(g_, i_, j_, dir.x, dir.y, dir.z / across, method_, search);
+        // At or below the horizontal: blocked by the terrain as above, and where no surface lies that way at all
+        // (past the DEM's edge) by the unknown ground beyond, taken as a horizon at 0 degrees.
+        const double horizon = horizonTangent(g_, i_, j_, dir.x, dir.y, method_, search);
+        return std::isinf(horizon) || horizon > dir.z / across;
     }
 
 private:
@@ -506,8 +510,11 @@ MapImage renderMapView(const HeightGrid& grid, const MapViewSettings& s) {
                 const double lambert = std::max(0.0, glm::dot(normal, toSun));
                 double lit = toSun.z > 0.0 ? 1.0 : 0.0;
                 if (s.castShadows && lambert > 0.0) {
+                    // At a vertex as `shadow` decides (a sun below the horizontal can light a peak); elsewhere the
+                    // sun must also be above the horizontal.
                     ++nShadow;
-                    if (isBlocked(toSun)) lit = 0.0;
+                    if (vertex) lit = vertex->blocked(toSun) ? 0.0 : 1.0;
+                    else if (isBlocked(toSun)) lit = 0.0;
                 }
                 double sky = 1.0;
                 if (s.skySamples > 0) {

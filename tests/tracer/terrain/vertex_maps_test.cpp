@@ -81,6 +81,11 @@ TEST_CASE("Vertex maps: a pyramid's horizons and shadows are its geometry", "[tr
         for (double az : {45.0, 200.0, 225.0, 300.0})
             CHECK(valueAt(shadowMask(g, radians(az), radians(5.0), method), 10, 10) == 0.0f);
         CHECK(valueAt(shadowMask(g, radians(270.0), radians(44.0), method), 15, 10) == 1.0f);
+        // A sun just below the horizontal still lights the apex (the faces fall away at 45 degrees); at the grid's
+        // west edge, looking out over no surface, the ground beyond counts as a 0-degree horizon.
+        CHECK(valueAt(shadowMask(g, radians(270.0), radians(-1.0), method), 10, 10) == 0.0f);
+        CHECK(valueAt(shadowMask(g, radians(270.0), radians(-1.0), method), 0, 10) == 1.0f);
+        CHECK(valueAt(shadowMask(g, radians(270.0), radians(1.0), method), 0, 10) == 0.0f);
         CHECK(valueAt(shadowMask(g, radians(270.0), radians(46.0), method), 15, 10) == 0.0f);
     }
 }
