@@ -3,6 +3,7 @@
 // and without a search radius and earth curvature.
 #include "heightfield/fractal_terrain.h"
 #include "heightfield/horizon.h"
+#include "support/brute_force.h"
 
 #include <catch2/catch.hpp>
 
@@ -11,30 +12,13 @@
 #include <random>
 
 using namespace terracast;
+using terracast::testing::surfaceAt;
 
 namespace {
 
 constexpr double kPiHere = 3.14159265358979323846;
 
 double deg(double tangent) { return std::atan(tangent) * 180.0 / kPiHere; }
-
-// The surface at grid coordinates (u, v) (vertex indices), or NaN over holes; on a grid line or a vertex,
-// any valid cell touching the point gives it.
-double surfaceAt(const HeightGrid& g, double u, double v, bool triangles) {
-    const int64_t iu = int64_t(std::floor(u)), iv = int64_t(std::floor(v));
-    for (int64_t cj : {iv, iv - 1})
-        for (int64_t ci : {iu, iu - 1}) {
-            if (ci < 0 || cj < 0 || ci >= g.cellsX() || cj >= g.cellsY() || !g.cellValid(ci, cj)) continue;
-            const double fu = u - double(ci), fv = v - double(cj);
-            if (fu < 0.0 || fu > 1.0 || fv < 0.0 || fv > 1.0) continue;
-            const double h00 = g.at(ci, cj), h10 = g.at(ci + 1, cj), h01 = g.at(ci, cj + 1), h11 = g.at(ci + 1, cj + 1);
-            if (!triangles)
-                return (1 - fu) * (1 - fv) * h00 + fu * (1 - fv) * h10 + (1 - fu) * fv * h01 + fu * fv * h11;
-            if (fu + fv <= 1.0) return h00 + (h10 - h00) * fu + (h01 - h00) * fv;
-            return h11 + (h11 - h01) * (fu - 1.0) + (h11 - h10) * (fv - 1.0);
-        }
-    return std::nan("");
-}
 
 // The largest slope from vertex (i, j) to surface points along (dirX, dirY): sampled every 1/4000 of a cell
 // (and from a millionth of a cell on, for the slope at the vertex), and where the line crosses the lines

@@ -43,6 +43,26 @@ struct BruteForceResult {
     long double minAbsGNoCross;    // smallest |G| at samples before the one preceding the crossing (grazing measure)
 };
 
+// The surface at grid coordinates (u, v) (vertex indices), in double, for either surface (bilinearHeightAt
+// above is the bilinear patch alone, in long double): the bilinear patch, or with `triangles` the two
+// triangles split by the diagonal from (1, 0) to (0, 1); NaN over holes. On a grid line or a vertex, any valid
+// cell touching the point gives it.
+inline double surfaceAt(const HeightGrid& g, double u, double v, bool triangles = false) {
+    const int64_t iu = int64_t(std::floor(u)), iv = int64_t(std::floor(v));
+    for (int64_t cj : {iv, iv - 1})
+        for (int64_t ci : {iu, iu - 1}) {
+            if (ci < 0 || cj < 0 || ci >= g.cellsX() || cj >= g.cellsY() || !g.cellValid(ci, cj)) continue;
+            const double fu = u - double(ci), fv = v - double(cj);
+            if (fu < 0.0 || fu > 1.0 || fv < 0.0 || fv > 1.0) continue;
+            const double h00 = g.at(ci, cj), h10 = g.at(ci + 1, cj), h01 = g.at(ci, cj + 1), h11 = g.at(ci + 1, cj + 1);
+            if (!triangles)
+                return (1 - fu) * (1 - fv) * h00 + fu * (1 - fv) * h10 + (1 - fu) * fv * h01 + fu * fv * h11;
+            if (fu + fv <= 1.0) return h00 + (h10 - h00) * fu + (h01 - h00) * fv;
+            return h11 + (h11 - h01) * (fu - 1.0) + (h11 - h10) * (fv - 1.0);
+        }
+    return std::nan("");
+}
+
 // Dense sampling of G over [t0, t1] (`samples` steps) and bisection of the first sign change, in long double.
 // Samples in holes or outside the grid are skipped (a hole interrupts the surface).
 inline BruteForceResult bruteForceHit(const HeightGrid& g, const Ray& ray, long double t0, long double t1,

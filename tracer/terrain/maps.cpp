@@ -18,12 +18,14 @@ namespace terracast {
 namespace {
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
-// Calls f(i, j, out) for every vertex of the grid, in parallel tiles, with `out` the vertex's `bands` values
-// (NaN until set).
-// (NaN until set). `progress` hears the share of vertices done and `raysPerVertex` times their count.
+// Calls f(i, j, out, chainStart) for every vertex of the grid, with `out` the vertex's `bands` values (NaN until
+// set); `progress` hears the share of vertices done and `raysPerVertex` times their count. In parallel tiles of
+// 64 x 64 vertices, or with `wholeRows` a row at a time from west to east, chainStart true at every 64th vertex:
+// what f carries from one vertex to the next (horizon hints) starts afresh there, so the results do not depend
+// on how rows are shared among threads.
 template <class F>
-MapRaster perVertexBands(const HeightGrid& grid, int bands, int threads, const MapProgress& progress,
-                         int64_t raysPerVertex, F&& f) {
+MapRaster forVertices(const HeightGrid& grid, int bands, int threads, const MapProgress& progress,
+                      int64_t raysPerVertex, bool wholeRows, F&& f) {
     MapRaster r;
     r.width = grid.width();
     r.height = grid.height();
@@ -32,43 +34,34 @@ MapRaster perVertexBands(const HeightGrid& grid, int bands, int threads, const M
     std::atomic<int64_t> done{0};
     std::mutex progressMutex;
     const double total = double(r.width) * double(r.height);
-    parallelForTiles(int(r.width), int(r.height), 64, threads, [&](int x0, int y0, int x1, int y1) {
-        for (int j = y0; j < y1; ++j)
-            for (int i = x0; i < x1; ++i) f(int64_t(i), int64_t(j), &r.values[size_t((int64_t(j) * r.width + i) * bands)]);
-        const int64_t now = done += int64_t(x1 - x0) * (y1 - y0);
-        if (progress) {
-            std::lock_guard lock(progressMutex);
-            progress(double(now) / total, now * raysPerVertex);
-        }
-    });
+    parallelForTiles(wholeRows ? 1 : int(r.width), int(r.height), wholeRows ? 4 : 64, threads,
+                     [&](int x0, int y0, int x1, int y1) {
+                         const int64_t i0 = wholeRows ? 0 : x0, i1 = wholeRows ? r.width : x1;
+                         for (int64_t j = y0; j < y1; ++j)
+                             for (int64_t i = i0; i < i1; ++i)
+                                 f(i, j, &r.values[size_t((j * r.width + i) * bands)], i % 64 == 0);
+                         const int64_t now = done += (i1 - i0) * (y1 - y0);
+                         if (progress) {
+                             std::lock_guard lock(progressMutex);
+                             progress(double(now) / total, now * raysPerVertex);
+                         }
+                     });
     return r;
 }
 
-// The same, a row at a time: f(i, j, out, chainStart) runs along each row from west to east, chainStart true at
-// every 64th vertex. What f carries from one vertex to the next (horizon hints) starts afresh there, so the
-// results do not depend on how rows are shared among threads.
+// Every vertex in parallel tiles, f(i, j, out).
+template <class F>
+MapRaster perVertexBands(const HeightGrid& grid, int bands, int threads, const MapProgress& progress,
+                         int64_t raysPerVertex, F&& f) {
+    return forVertices(grid, bands, threads, progress, raysPerVertex, false,
+                       [&](int64_t i, int64_t j, float* out, bool) { f(i, j, out); });
+}
+
+// Every vertex a row at a time, f(i, j, out, chainStart).
 template <class F>
 MapRaster perVertexRows(const HeightGrid& grid, int bands, int threads, const MapProgress& progress,
                         int64_t raysPerVertex, F&& f) {
-    MapRaster r;
-    r.width = grid.width();
-    r.height = grid.height();
-    r.bands = bands;
-    r.values.assign(size_t(r.width * r.height * bands), kNaN);
-    std::atomic<int64_t> done{0};
-    std::mutex progressMutex;
-    const double total = double(r.width) * double(r.height);
-    parallelForTiles(1, int(r.height), 4, threads, [&](int, int y0, int, int y1) {
-        for (int j = y0; j < y1; ++j)
-            for (int64_t i = 0; i < r.width; ++i)
-                f(i, int64_t(j), &r.values[size_t((int64_t(j) * r.width + i) * bands)], i % 64 == 0);
-        const int64_t now = done += int64_t(r.width) * (y1 - y0);
-        if (progress) {
-            std::lock_guard lock(progressMutex);
-            progress(double(now) / total, now * raysPerVertex);
-        }
-    });
-    return r;
+    return forVertices(grid, bands, threads, progress, raysPerVertex, true, std::forward<F>(f));
 }
 
 // Horizons along one azimuth for the vertices of a row, west to east: each walk starts from the surface where the
@@ -239,11 +232,6 @@ bool blockedFrom(const HeightGrid& grid, const HeightFieldHit& at, const glm::dv
     // A direction at or below the local tangent plane is blocked by the surface itself.
     if (glm::dot(at.normal, dir) <= 0.0) return true;
     return occluded(grid, Ray{spawnOrigin(at, dir), dir}, {0.0, kInfinity}, method);
-}
-
-double horizonAngleRad(const HeightGrid& grid, const HeightFieldHit& at, double azimuthRad, CellMethod method,
-                       double toleranceRad) {
-    return bisectHorizon(azimuthRad, toleranceRad, [&](const glm::dvec3& d) { return blockedFrom(grid, at, d, method); });
 }
 
 namespace {

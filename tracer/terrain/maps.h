@@ -20,13 +20,6 @@ std::optional<HeightFieldHit> surfacePointAt(const HeightGrid& grid, double xM, 
 // True when the terrain blocks the direction `dir` from a surface point (ray spawned off the surface).
 bool blockedFrom(const HeightGrid& grid, const HeightFieldHit& at, const glm::dvec3& dir, CellMethod method);
 
-// The horizon elevation angle (radians) seen from a surface point towards an azimuth: the lowest elevation
-// at which the terrain no longer blocks the view, found by bisection to `toleranceRad` (a height field has
-// no overhangs, so blocked elevations form one interval from -90 degrees up). Returns -pi/2 when nothing
-// blocks even the lowest direction tested (just below the local tangent plane).
-double horizonAngleRad(const HeightGrid& grid, const HeightFieldHit& at, double azimuthRad, CellMethod method,
-                       double toleranceRad = 1e-7);
-
 // True when the terrain blocks `dir` from vertex (i, j), at the vertex's own height (docs/architecture.md,
 // "Map products at vertices"): the direction leaves the vertex over one cell (or along the edge between two);
 // it is blocked when it goes below that cell's surface before leaving it, and past that cell the walk decides.

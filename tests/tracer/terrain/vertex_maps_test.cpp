@@ -4,6 +4,7 @@
 #include "loaders/dem_loader.h"
 #include "tracer/core/angles.h"
 #include "tracer/terrain/maps.h"
+#include "support/brute_force.h"
 
 #include <catch2/catch.hpp>
 
@@ -26,22 +27,6 @@ HeightGrid pyramid() {
 
 float valueAt(const MapRaster& r, int64_t i, int64_t j) { return r.values[size_t(j * r.width + i)]; }
 
-// The bilinear surface at local (x, y), or NaN over a hole: interpolated here from the four corners of a valid
-// cell holding the point (on a grid line or a vertex, any of the two or four that touch it).
-double bilinearAt(const HeightGrid& g, double x, double y) {
-    const double u = x / g.cellSizeXM(), v = y / g.cellSizeYM();
-    const int64_t iu = int64_t(std::floor(u)), iv = int64_t(std::floor(v));
-    for (int64_t cj : {iv, iv - 1})
-        for (int64_t ci : {iu, iu - 1}) {
-            if (ci < 0 || cj < 0 || ci >= g.cellsX() || cj >= g.cellsY() || !g.cellValid(ci, cj)) continue;
-            const double fu = u - double(ci), fv = v - double(cj);
-            if (fu < 0.0 || fu > 1.0 || fv < 0.0 || fv > 1.0) continue;
-            return (1 - fu) * (1 - fv) * g.at(ci, cj) + fu * (1 - fv) * g.at(ci + 1, cj) + (1 - fu) * fv * g.at(ci, cj + 1) +
-                   fu * fv * g.at(ci + 1, cj + 1);
-        }
-    return std::nan("");
-}
-
 // The horizon (degrees) from vertex (i, j) towards an azimuth by marching over the bilinear surface: the
 // largest elevation angle to any sample, every thousandth of a cell for 5 cells and every hundredth beyond.
 // A lower bound of the exact horizon, close to it. NaN when the march crosses a hole: how a line of sight
@@ -54,7 +39,7 @@ double bruteHorizonDeg(const HeightGrid& g, int64_t i, int64_t j, double azimuth
     for (double r = 1e-4 * cell;; r = r < 1e-3 * cell ? r * 1.1 : r + (r < 5.0 * cell ? 1e-3 : 1e-2) * cell) {
         const double x = x0 + r * sx, y = y0 + r * sy;
         if (x < 0.0 || y < 0.0 || x > g.extentXM() || y > g.extentYM()) break;
-        const double h = bilinearAt(g, x, y);
+        const double h = double(testing::bilinearHeightAt(g, x, y));
         if (std::isnan(h)) return h;
         best = std::max(best, degrees(std::atan2(h - z0, r)));
     }
