@@ -56,6 +56,21 @@ inline Real differenceOfProducts(Real a, Real b, Real c, Real d) {
     return dop + err;
 }
 
+// sqrt(B^2 - 4 A C), or a negative value when the discriminant is negative. In float the discriminant is formed
+// and rooted in double: its exact products fit double's significand, and its magnitude, the square of the
+// coefficients', leaves float's range for coefficients below about 1e-19 or above 1e19 (a nearly flat cell
+// crossed by a nearly vertical ray). Rounded to zero there, it would turn two distinct roots into one.
+template <class Real>
+inline Real discriminantRoot(Real A, Real B, Real C) {
+    if constexpr (std::is_same_v<Real, float>) {
+        const double disc = differenceOfProducts(double(B), double(B), 4.0 * double(A), double(C));
+        return disc >= 0.0 ? float(std::sqrt(disc)) : -1.0f;
+    } else {
+        const Real disc = differenceOfProducts(B, B, Real(4) * A, C);
+        return disc >= Real(0) ? std::sqrt(disc) : Real(-1);
+    }
+}
+
 // The crossing of a piece [sa, sb] on which G is linear (or on which a crossing is guaranteed because G
 // changes sign), from the end values ga = G(sa) and gb = G(sb); none when G keeps one strict sign.
 template <class Real>
@@ -78,9 +93,9 @@ inline std::optional<Real> guaranteedCrossing(const CellSegment<Real>& seg) {
 // Intersections", JGT 9(3)). Substituting the segment into h(u, v) gives A s^2 + B s + C = 0 with
 //   A = d du dv,  B = b du + c dv + d (u0 dv + v0 du) - dz,  C = G(0).
 // The roots use the cancellation-free form q = -(B + sign(B) sqrt(B^2 - 4AC)) / 2, s = q / A and C / q,
-// with the discriminant from an FMA difference of products; A == 0 (planar cell, or a ray parallel to an
-// axis) is solved as the linear equation B s + C = 0. The ray's z never enters the elimination, so
-// horizontal rays are ordinary.
+// with the discriminant from an FMA difference of products (in double for float: see discriminantRoot); A == 0
+// (planar cell, or a ray parallel to an axis) is solved as the linear equation B s + C = 0. The ray's z never
+// enters the elimination, so horizontal rays are ordinary.
 template <class Real>
 TERRACAST_CELL_INLINE std::optional<Real> intersectBilinearCell(const CellCorners<Real>& h,
                                                                 const CellSegment<Real>& seg) {
@@ -98,9 +113,9 @@ TERRACAST_CELL_INLINE std::optional<Real> intersectBilinearCell(const CellCorner
     if (A == Real(0)) {
         if (B != Real(0)) r0 = -C / B;
     } else {
-        const Real disc = differenceOfProducts(B, B, Real(4) * A, C);
-        if (disc >= Real(0)) {
-            const Real q = Real(-0.5) * (B + std::copysign(std::sqrt(disc), B));
+        const Real root = discriminantRoot(A, B, C);
+        if (root >= Real(0)) {
+            const Real q = Real(-0.5) * (B + std::copysign(root, B));
             r0 = q / A;
             r1 = q != Real(0) ? C / q : r0;
             if (r1 < r0) std::swap(r0, r1);
