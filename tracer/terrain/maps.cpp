@@ -1,68 +1,46 @@
 #include "tracer/terrain/maps.h"
+#include "tracer/terrain/vertex_loop.h"
 
 #include "heightfield/horizon.h"
 #include "tracer/core/angles.h"
 
-#include "tracer/core/parallel.h"
 #include "tracer/sampling/rng.h"
 #include "tracer/sampling/warps.h"
 
 #include <algorithm>
 #include <cmath>
-#include <atomic>
 #include <limits>
-#include <mutex>
 
 namespace terracast {
 
+namespace vertex_maps {
+
+bool vertexOnSurface(const HeightGrid& g, int64_t i, int64_t j) {
+    if (!g.vertexValid(i, j)) return false;
+    for (int64_t cj = j - 1; cj <= j; ++cj)
+        for (int64_t ci = i - 1; ci <= i; ++ci)
+            if (ci >= 0 && cj >= 0 && ci < g.cellsX() && cj < g.cellsY() && g.cellValid(ci, cj)) return true;
+    return false;
+}
+
+glm::dvec3 vertexNormal(const HeightGrid& g, int64_t i, int64_t j) {
+    glm::dvec3 sum(0.0);
+    for (int64_t cj = j - 1; cj <= j; ++cj)
+        for (int64_t ci = i - 1; ci <= i; ++ci) {
+            if (ci < 0 || cj < 0 || ci >= g.cellsX() || cj >= g.cellsY() || !g.cellValid(ci, cj)) continue;
+            const double h00 = g.at(ci, cj), h10 = g.at(ci + 1, cj), h01 = g.at(ci, cj + 1), h11 = g.at(ci + 1, cj + 1);
+            const double u = double(i - ci), v = double(j - cj), d = h00 - h10 - h01 + h11;
+            const double dhdu = h10 - h00 + d * v, dhdv = h01 - h00 + d * u;
+            sum += glm::normalize(glm::dvec3(-dhdu / g.cellSizeXM(), -dhdv / g.cellSizeYM(), 1.0));
+        }
+    return glm::normalize(sum);
+}
+
+}  // namespace vertex_maps
+
+using namespace vertex_maps;
+
 namespace {
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-
-// Calls f(i, j, out, chainStart) for every vertex of the grid, with `out` the vertex's `bands` values (NaN until
-// set); `progress` hears the share of vertices done and `raysPerVertex` times their count. In parallel tiles of
-// 64 x 64 vertices, or with `wholeRows` a row at a time from west to east, chainStart true at every 64th vertex:
-// what f carries from one vertex to the next (horizon hints) starts afresh there, so the results do not depend
-// on how rows are shared among threads.
-template <class F>
-MapRaster forVertices(const HeightGrid& grid, int bands, int threads, const MapProgress& progress,
-                      int64_t raysPerVertex, bool wholeRows, F&& f) {
-    MapRaster r;
-    r.width = grid.width();
-    r.height = grid.height();
-    r.bands = bands;
-    r.values.assign(size_t(r.width * r.height * bands), kNaN);
-    std::atomic<int64_t> done{0};
-    std::mutex progressMutex;
-    const double total = double(r.width) * double(r.height);
-    parallelForTiles(wholeRows ? 1 : int(r.width), int(r.height), wholeRows ? 4 : 64, threads,
-                     [&](int x0, int y0, int x1, int y1) {
-                         const int64_t i0 = wholeRows ? 0 : x0, i1 = wholeRows ? r.width : x1;
-                         for (int64_t j = y0; j < y1; ++j)
-                             for (int64_t i = i0; i < i1; ++i)
-                                 f(i, j, &r.values[size_t((j * r.width + i) * bands)], i % 64 == 0);
-                         const int64_t now = done += (i1 - i0) * (y1 - y0);
-                         if (progress) {
-                             std::lock_guard lock(progressMutex);
-                             progress(double(now) / total, now * raysPerVertex);
-                         }
-                     });
-    return r;
-}
-
-// Every vertex in parallel tiles, f(i, j, out).
-template <class F>
-MapRaster perVertexBands(const HeightGrid& grid, int bands, int threads, const MapProgress& progress,
-                         int64_t raysPerVertex, F&& f) {
-    return forVertices(grid, bands, threads, progress, raysPerVertex, false,
-                       [&](int64_t i, int64_t j, float* out, bool) { f(i, j, out); });
-}
-
-// Every vertex a row at a time, f(i, j, out, chainStart).
-template <class F>
-MapRaster perVertexRows(const HeightGrid& grid, int bands, int threads, const MapProgress& progress,
-                        int64_t raysPerVertex, F&& f) {
-    return forVertices(grid, bands, threads, progress, raysPerVertex, true, std::forward<F>(f));
-}
 
 // Horizons along one azimuth for the vertices of a row, west to east: each walk starts from the surface where the
 // vertex to its west found its horizon (horizonPoint's hint), which lets it skip more; same answers.
@@ -88,13 +66,6 @@ private:
     double lastDistanceM_ = 0.0;
 };
 
-// One value per vertex: f(i, j).
-template <class F>
-MapRaster perVertex(const HeightGrid& grid, int threads, const MapProgress& progress, int64_t raysPerVertex, F&& f) {
-    return perVertexBands(grid, 1, threads, progress, raysPerVertex,
-                          [&](int64_t i, int64_t j, float* out) { *out = f(i, j); });
-}
-
 // The surface point at vertex (i, j), or none for a vertex that belongs to no valid cell.
 std::optional<HeightFieldHit> vertexPoint(const HeightGrid& g, int64_t i, int64_t j, CellMethod method) {
     if (!g.vertexValid(i, j)) return std::nullopt;
@@ -103,15 +74,6 @@ std::optional<HeightFieldHit> vertexPoint(const HeightGrid& g, int64_t i, int64_
 
 // The flat squares of `nearest` put no surface at a vertex; the other methods pass through every vertex.
 bool exactAtVertices(CellMethod method) { return method != CellMethod::Nearest; }
-
-// True when vertex (i, j) is a corner of at least one valid cell: the surface passes through it.
-bool vertexOnSurface(const HeightGrid& g, int64_t i, int64_t j) {
-    if (!g.vertexValid(i, j)) return false;
-    for (int64_t cj = j - 1; cj <= j; ++cj)
-        for (int64_t ci = i - 1; ci <= i; ++ci)
-            if (ci >= 0 && cj >= 0 && ci < g.cellsX() && cj < g.cellsY() && g.cellValid(ci, cj)) return true;
-    return false;
-}
 
 // The horizon elevation angle (radians) towards an azimuth from a point whose blocked directions form one
 // interval from -90 degrees up (a height field has no overhangs): bisection on `blocked(direction)` to
@@ -437,24 +399,6 @@ MapRaster viewshed(const HeightGrid& grid, const ViewshedSettings& s) {
     });
 }
 
-namespace {
-
-// The surface normal at vertex (i, j): the unit normals of its valid cells at that corner, averaged (for both
-// surfaces the bilinear gradient at a corner is a triangle's there, or mixes the two that meet at it).
-glm::dvec3 vertexNormal(const HeightGrid& g, int64_t i, int64_t j) {
-    glm::dvec3 sum(0.0);
-    for (int64_t cj = j - 1; cj <= j; ++cj)
-        for (int64_t ci = i - 1; ci <= i; ++ci) {
-            if (ci < 0 || cj < 0 || ci >= g.cellsX() || cj >= g.cellsY() || !g.cellValid(ci, cj)) continue;
-            const double h00 = g.at(ci, cj), h10 = g.at(ci + 1, cj), h01 = g.at(ci, cj + 1), h11 = g.at(ci + 1, cj + 1);
-            const double u = double(i - ci), v = double(j - cj), d = h00 - h10 - h01 + h11;
-            const double dhdu = h10 - h00 + d * v, dhdv = h01 - h00 + d * u;
-            sum += glm::normalize(glm::dvec3(-dhdu / g.cellSizeXM(), -dhdv / g.cellSizeYM(), 1.0));
-        }
-    return glm::normalize(sum);
-}
-
-}  // namespace
 
 MapImage renderMapView(const HeightGrid& grid, const MapViewSettings& s) {
     const int w = std::max(1, int(std::lround(double(grid.width()) * s.scale)));
