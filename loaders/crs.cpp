@@ -2,6 +2,7 @@
 
 #include "tracer/sky/sun_position.h"
 
+#include "tracer/core/angles.h"
 #include "tracer/core/errors.h"
 
 #include <cpl_error.h>
@@ -67,15 +68,32 @@ void sourceToLocal(const LoadedDem& dem, double x, double y, double& xM, double&
     yM = (y - dem.geo.originY) / spy * dem.grid.cellSizeYM();
 }
 
+double gridConvergenceDeg(const GeoReference& geo, int64_t width, int64_t height, const std::string& what) {
+    double lon = 0.0, lat = 0.0;
+    gridCentreLonLat(geo, width, height, what, lon, lat);
+    // Two points a hundredth of a degree apart along the meridian, in the source CRS: true north's direction there.
+    const double d = lat > 0.0 ? -0.01 : 0.01;
+    double x0 = 0.0, y0 = 0.0, x1 = 0.0, y1 = 0.0;
+    lonLatToSource(geo, lon, lat, x0, y0);
+    lonLatToSource(geo, lon, lat + d, x1, y1);
+    const double sign = d > 0.0 ? 1.0 : -1.0;
+    // Local x and y run with the source's x and y (sourceToLocal), in proportion for a projected CRS; a geographic
+    // one has no x displacement along a meridian.
+    const double c = std::atan2(sign * (x1 - x0), sign * (y1 - y0));
+    return std::isfinite(c) ? degrees(c) : 0.0;
+}
+
 std::string placeSunOverGrid(const UtcInstant& when, const GeoReference& geo, int64_t width, int64_t height,
                              const std::string& what, double& azimuthDeg, double& elevationDeg) {
     double lon = 0.0, lat = 0.0;
     gridCentreLonLat(geo, width, height, what, lon, lat);
     const SolarPosition p = solarPosition(when, lat, lon);
-    azimuthDeg = p.azimuthDeg;
+    const double convergence = gridConvergenceDeg(geo, width, height, what);
+    azimuthDeg = std::fmod(p.azimuthDeg + convergence + 360.0, 360.0);
     elevationDeg = p.apparentElevationDeg;
-    return fmt::format("sun at {} over {:.4f}, {:.4f} (lat, lon): azimuth {:.2f}, elevation {:.2f} degrees",
-                       formatUtc(when), lat, lon, azimuthDeg, elevationDeg);
+    return fmt::format("sun at {} over {:.4f}, {:.4f} (lat, lon): azimuth {:.2f} from true north ({:.2f} from grid "
+                       "north), elevation {:.2f} degrees",
+                       formatUtc(when), lat, lon, p.azimuthDeg, azimuthDeg, elevationDeg);
 }
 
 }  // namespace terracast

@@ -17,9 +17,14 @@ void lonLatToSource(const GeoReference& geo, double lonDeg, double latDeg, doubl
 void gridCentreLonLat(const GeoReference& geo, int64_t width, int64_t height, const std::string& what, double& lonDeg,
                       double& latDeg);
 
-// Where the sun stands at `when` over the centre of a grid of `width` x
-// `height` vertices placed by `geo`, by NOAA's equations: sets the azimuth and apparent elevation and returns a
-// line saying so. Throws InputError naming `what` when the grid has no CRS.
+// The meridian convergence at the centre of a grid placed by `geo`: the angle from the grid's north (its rows'
+// +y) to true north, clockwise, in degrees. An azimuth from true north plus this is the azimuth in the grid's
+// frame. Zero for geographic grids, whose local frame is east and north. Throws InputError as gridCentreLonLat.
+double gridConvergenceDeg(const GeoReference& geo, int64_t width, int64_t height, const std::string& what);
+
+// Where the sun stands at `when` over the centre of a grid of `width` x `height` vertices placed by `geo`, by
+// NOAA's equations: sets the azimuth (in the grid's frame: from true north plus the meridian convergence) and the
+// apparent elevation and returns a line saying so. Throws InputError naming `what` when the grid has no CRS.
 std::string placeSunOverGrid(const UtcInstant& when, const GeoReference& geo, int64_t width, int64_t height,
                              const std::string& what, double& azimuthDeg, double& elevationDeg);
 

@@ -4,6 +4,7 @@
 #include "support/run_command.h"
 #include "support/temp_dir.h"
 #include "loaders/image_io.h"
+#include "tracer/core/angles.h"
 #include "tracer/sky/sun_position.h"
 
 #include <catch2/catch.hpp>
@@ -46,11 +47,16 @@ void rasterCentre(const std::string& path, double& lon, double& lat) {
 }
 
 // The azimuth and elevation a command printed for the sun.
-bool printedSun(const std::string& err, double& azimuth, double& elevation) {
+// The sun's azimuth from true north, from grid north, and its elevation, as the run printed them.
+bool printedSun(const std::string& err, double& azimuth, double& elevation, double* gridAzimuth = nullptr) {
     std::smatch m;
-    if (!std::regex_search(err, m, std::regex("azimuth ([0-9.-]+), elevation ([0-9.-]+) degrees"))) return false;
+    if (!std::regex_search(err, m,
+                           std::regex("azimuth ([0-9.-]+) from true north \\(([0-9.-]+) from grid north\\), "
+                                      "elevation ([0-9.-]+) degrees")))
+        return false;
     azimuth = std::stod(m[1]);
-    elevation = std::stod(m[2]);
+    if (gridAzimuth) *gridAzimuth = std::stod(m[2]);
+    elevation = std::stod(m[3]);
     return true;
 }
 
@@ -66,8 +72,13 @@ TEST_CASE("CLI: render --sun-time puts the sun where it stands over the DEM then
     rasterCentre(kStHelens, lon, lat);
     const SolarPosition expected = solarPosition({2026, 6, 21, 19, 30, 0.0}, lat, lon);
     double azimuth = 0, elevation = 0;
-    REQUIRE(printedSun(r.err, azimuth, elevation));
+    double gridAzimuth = 0.0;
+    REQUIRE(printedSun(r.err, azimuth, elevation, &gridAzimuth));
     CHECK(azimuth == Approx(expected.azimuthDeg).margin(0.01));
+    // The tile is in UTM zone 10 (central meridian 123 W): Transverse Mercator's meridian convergence at its centre,
+    // atan(tan(lon - lon0) sin(lat)), turns grid north east of true north there.
+    const double convergence = -degrees(std::atan(std::tan(radians(lon + 123.0)) * std::sin(radians(lat))));
+    CHECK(gridAzimuth - azimuth == Approx(convergence).margin(0.02));
     CHECK(elevation == Approx(expected.apparentElevationDeg).margin(0.01));
     CHECK(elevation > 60.0);  // a June midday at 46 degrees north
     CHECK(r.err.find("2026-06-21T19:30:00Z") != std::string::npos);
