@@ -108,6 +108,37 @@ void addMapCommands(CLI::App& app, Commands& commands) {
     }
     {
         struct Texts {
+            InsolationMapOptions options;
+            std::string dates, step = "30m", method = "bilinear";
+        };
+        auto t = std::make_shared<Texts>();
+        auto* cmd = app.add_subcommand("insolation", "Clear-sky beam, diffuse, reflected and global irradiation (Wh/m2) "
+                                                     "and hours of direct sun per DEM vertex over a day or dates, with "
+                                                     "cast shadows (five bands; r.sun's model)");
+        addDemOptions(*cmd, t->options.dem);
+        cmd->add_option("-o,--output", t->options.output, "Output GeoTIFF (.tif) on the DEM's grid")->required();
+        cmd->add_option("--date", t->dates,
+                        "A day YYYY-MM-DD or dates START/END (END included), local solar days at the DEM's centre")
+            ->required();
+        cmd->add_option("--step", t->step, "Time step within a day, such as 30m or 1h (default 30m, as r.sun's)");
+        cmd->add_option("--day-step", t->options.dayStep,
+                        "Compute every n-th day, each standing for the n days from it (default 1)");
+        cmd->add_option("--linke", t->options.linkeTurbidity, "Linke turbidity factor (default 3.0)");
+        cmd->add_option("--albedo", t->options.albedo, "Ground reflectance for the reflected part (default 0.2)");
+        addSearchOptions(*cmd, t->options.maxDistanceM, t->options.curvatureCoeff,
+                         "Metres beyond which terrain casts no shadow (default 0: the whole DEM)");
+        addThreadsAndMethod(*cmd, t->options.threads, t->method);
+        commands.push_back({cmd, [t] {
+                                return guarded([&] {
+                                    t->options.dates = parseDateSpan(t->dates, "--date");
+                                    t->options.stepSeconds = parseDurationSeconds(t->step, "--step");
+                                    t->options.method = parseMethodOption(t->method);
+                                    writeInsolationMap(t->options, ConsoleListener(false).listener());
+                                });
+                            }});
+    }
+    {
+        struct Texts {
             ViewshedMapOptions options;
             std::string observer, method = "bilinear";
         };

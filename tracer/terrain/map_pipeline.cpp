@@ -8,6 +8,8 @@
 #include "tracer/core/errors.h"
 #include "tracer/core/resources.h"
 #include "tracer/core/text.h"
+#include "tracer/sky/sun_position.h"
+#include "tracer/terrain/insolation.h"
 #include "tracer/terrain/maps.h"
 #include "tracer/terrain/memory_model.h"
 
@@ -16,6 +18,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <optional>
 #include <sstream>
 
 namespace terracast {
@@ -83,6 +87,21 @@ HorizonSearch searchFrom(double maxDistanceM, double curvatureCoeff, const char*
 }
 
 std::string number(double v) { return fmt::format("{}", v); }
+
+// "30m", "1h", "90s", "1d" in seconds; nothing when it is not one (or longer than a leap year).
+std::optional<int64_t> durationSeconds(const std::string& text) {
+    int64_t count = 0;
+    size_t used = 0;
+    try {
+        count = std::stoll(text, &used);
+    } catch (const std::exception&) {
+        return std::nullopt;
+    }
+    const std::string unit = text.substr(used);
+    const int64_t per = unit == "s" ? 1 : unit == "m" ? 60 : unit == "h" ? 3600 : unit == "d" ? 86400 : 0;
+    if (per == 0 || count <= 0 || count > 366 * 86400 / per) return std::nullopt;
+    return count * per;
+}
 
 // `shadow --sun-time START/END/STEP`: one Byte band per time, in one pass over the grid.
 void writeShadowSeries(const ShadowMapOptions& o, const RunListener& listener) {
@@ -157,23 +176,46 @@ std::vector<UtcInstant> parseSunTimeRange(const std::string& text, const std::st
     if (!start) throw fail("START: " + why);
     const auto end = parseIsoTime(text.substr(a + 1, b - a - 1), why);
     if (!end) throw fail("END: " + why);
-    const std::string step = text.substr(b + 1);
-    int64_t count = 0;
-    size_t used = 0;
-    try {
-        count = std::stoll(step, &used);
-    } catch (const std::exception&) {
-        throw fail("STEP: a whole number with a unit s, m, h or d");
-    }
-    const std::string unit = step.substr(used);
-    const int64_t per = unit == "s" ? 1 : unit == "m" ? 60 : unit == "h" ? 3600 : unit == "d" ? 86400 : 0;
-    if (per == 0 || count <= 0 || count > 366 * 86400) throw fail("STEP: a whole number > 0 with a unit s, m, h or d");
+    const std::optional<int64_t> step = durationSeconds(text.substr(b + 1));
+    if (!step) throw fail("STEP: a whole number > 0 with a unit s, m, h or d");
     const int64_t t0 = unixSeconds(*start), t1 = unixSeconds(*end);
     if (t1 < t0) throw fail("END is before START");
-    if ((t1 - t0) / (count * per) + 1 > 3600) throw fail("more than 3600 times");
+    if ((t1 - t0) / *step + 1 > 3600) throw fail("more than 3600 times");
     std::vector<UtcInstant> times;
-    for (int64_t t = t0; t <= t1; t += count * per) times.push_back(*instantFromUnixSeconds(t));
+    for (int64_t t = t0; t <= t1; t += *step) times.push_back(*instantFromUnixSeconds(t));
     return times;
+}
+
+int64_t parseDurationSeconds(const std::string& text, const std::string& option) {
+    const std::optional<int64_t> s = durationSeconds(text);
+    if (!s) throw InputError(fmt::format("{}: expected a whole number > 0 with a unit s, m, h or d (such as 30m), "
+                                         "found '{}'", option, text));
+    return *s;
+}
+
+DateSpan parseDateSpan(const std::string& text, const std::string& option) {
+    const auto fail = [&](const std::string& why) {
+        return InputError(fmt::format("{}: expected a date YYYY-MM-DD or START/END such as 2026-01-01/2026-12-31, "
+                                      "found '{}' ({})", option, text, why));
+    };
+    const auto date = [&](const std::string& part, const char* which) {
+        int y = 0, m = 0, d = 0, used = 0;
+        if (std::sscanf(part.c_str(), "%4d-%2d-%2d%n", &y, &m, &d, &used) != 3 || used != int(part.size()) ||
+            part.size() != 10)
+            throw fail(fmt::format("{} is not YYYY-MM-DD", which));
+        if (y < 1 || m < 1 || m > 12 || d < 1 || d > daysInMonth(y, m)) throw fail(fmt::format("{} is no such day", which));
+        return daysFromCivil(y, m, d);
+    };
+    const size_t slash = text.find('/');
+    DateSpan span;
+    if (slash == std::string::npos) {
+        span.firstDay = span.lastDay = date(text, "the date");
+    } else {
+        span.firstDay = date(text.substr(0, slash), "START");
+        span.lastDay = date(text.substr(slash + 1), "END");
+        if (span.lastDay < span.firstDay) throw fail("END is before START");
+    }
+    return span;
 }
 
 void writeShadowMap(const ShadowMapOptions& o, const RunListener& listener) {
@@ -273,6 +315,93 @@ void writeSkyViewMap(const SkyViewMapOptions& o, const RunListener& listener) {
     listener.tell(fmt::format("sky-view factor and openness: {} directions, search radius {:.1f} m", o.directions, radius));
     tellRasterSummary(listener, "sky view", o.output, shape, shape.width * shape.height * 2 * o.directions,
                       "horizon walks", start);
+}
+
+void writeInsolationMap(const InsolationMapOptions& o, const RunListener& listener) {
+    checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
+    if (!(o.linkeTurbidity >= 0.5 && o.linkeTurbidity <= 10.0))
+        throw InputError(fmt::format("insolation --linke: expected a Linke turbidity in [0.5, 10], found {}", o.linkeTurbidity));
+    if (!(o.albedo >= 0.0 && o.albedo <= 1.0))
+        throw InputError(fmt::format("insolation --albedo: expected a ground reflectance in [0, 1], found {}", o.albedo));
+    if (o.stepSeconds < 10 || o.stepSeconds > 86400)
+        throw InputError(fmt::format("insolation --step: expected 10 s to 1 d, found {} s", o.stepSeconds));
+    if (o.dayStep < 1 || o.dayStep > 366)
+        throw InputError(fmt::format("insolation --day-step: expected 1 to 366 days, found {}", o.dayStep));
+    const int64_t perDay = (86400 + o.stepSeconds - 1) / o.stepSeconds;
+    const int64_t days = (o.dates.lastDay - o.dates.firstDay) / o.dayStep + 1;
+    if (days * perDay > 200000)
+        throw InputError(fmt::format("insolation: {} days of {} steps is {} sun positions, more than 200000; use a "
+                                     "longer --step or --day-step", days, perDay, days * perDay));
+    InsolationSettings s;
+    s.search = searchFrom(o.maxDistanceM, o.curvatureCoeff, "insolation");
+    s.method = requireDirectMethod(o.method, "insolation");
+    s.sky.linkeTurbidity = o.linkeTurbidity;
+    s.sky.albedo = o.albedo;
+    const LoadedDem dem = loadDemSource(o.dem, listener);
+    const std::string what = o.dem.path + ": insolation";
+    double lon = 0.0, lat = 0.0;
+    gridCentreLonLat(dem.geo, dem.grid.width(), dem.grid.height(), what, lon, lat);
+    const double convergence = gridConvergenceDeg(dem.geo, dem.grid.width(), dem.grid.height(), what);
+    // Each computed day starts at local mean solar midnight at the DEM's centre; its steps sample the middle of
+    // each interval (the last one shorter when the step does not divide the day) and stand for dayStep days, or
+    // for the days left at the end of the span.
+    int64_t up = 0;
+    for (int64_t day = o.dates.firstDay; day <= o.dates.lastDay; day += o.dayStep) {
+        const double weight = double(std::min<int64_t>(o.dayStep, o.dates.lastDay - day + 1));
+        const CivilDate date = civilFromDays(day);
+        const double g0 = extraterrestrialIrradiance(double(day - daysFromCivil(date.year, 1, 1) + 1), s.sky.solarConstant);
+        const double midnight = double(day) * 86400.0 - lon / 15.0 * 3600.0;
+        for (int64_t k = 0; k < perDay; ++k) {
+            const double a = double(k * o.stepSeconds), b = std::min(86400.0, double((k + 1) * o.stepSeconds));
+            const double t = midnight + 0.5 * (a + b);
+            const double whole = std::floor(t);
+            std::optional<UtcInstant> when = instantFromUnixSeconds(int64_t(whole));
+            if (!when) throw InputError("insolation --date: expected days within the years 0001 to 9999");
+            when->second += t - whole;
+            const SolarPosition p = solarPosition(*when, lat, lon);
+            SunStep step;
+            step.azimuthRad = radians(p.azimuthDeg + convergence);
+            step.elevationRad = radians(p.elevationDeg);
+            step.apparentElevationRad = radians(p.apparentElevationDeg);
+            step.extraterrestrial = g0;
+            step.hours = (b - a) / 3600.0 * weight;
+            up += p.elevationDeg > 0.0;
+            s.steps.push_back(step);
+        }
+    }
+    const CivilDate first = civilFromDays(o.dates.firstDay), last = civilFromDays(o.dates.lastDay);
+    const std::string span = fmt::format("{:04}-{:02}-{:02}/{:04}-{:02}-{:02}", first.year, first.month, first.day,
+                                         last.year, last.month, last.day);
+    listener.tell(fmt::format("insolation over {} ({} days, {} computed), {} sun positions ({} with the sun up) over "
+                              "{:.4f}, {:.4f} (lat, lon); grid north {:.2f} degrees from true north",
+                              span, o.dates.lastDay - o.dates.firstDay + 1, days, s.steps.size(), up, lat, lon,
+                              -convergence));
+    checkMemory(o.dem.path, o.dem.maxMemoryBytes, dem.grid,
+                4.0 * double(dem.grid.width()) * double(dem.grid.height()) * double(kInsolationBands),
+                "insolation bands");
+    s.threads = o.threads;
+    s.progress = listener.progress;
+    listener.at("insolation");
+    const auto start = std::chrono::steady_clock::now();
+    MapRaster r = insolationMap(dem.grid, s);
+    RasterLabels labels;
+    labels.bands = {"beam (direct) irradiation", "diffuse irradiation", "ground-reflected irradiation",
+                    "global irradiation", "hours of direct sun"};
+    labels.units = {"Wh/m2", "Wh/m2", "Wh/m2", "Wh/m2", "h"};
+    labels.metadata = {{"TERRACAST_PRODUCT", "insolation"},
+                       {"TERRACAST_DATES", span},
+                       {"TERRACAST_STEP_S", std::to_string(o.stepSeconds)},
+                       {"TERRACAST_DAY_STEP", std::to_string(o.dayStep)},
+                       {"TERRACAST_LINKE_TURBIDITY", number(o.linkeTurbidity)},
+                       {"TERRACAST_ALBEDO", number(o.albedo)},
+                       {"TERRACAST_SUN_AT_LAT_LON", fmt::format("{:.6f},{:.6f}", lat, lon)},
+                       {"TERRACAST_MAX_DISTANCE_M", number(o.maxDistanceM)},
+                       {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
+                       {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
+    const RasterShape shape(r);
+    writeVertexRaster(o.output, dem, std::move(r), RasterType::Float32, -9999.0, std::move(labels));
+    tellRasterSummary(listener, "insolation", o.output, shape, shape.width * shape.height * up,
+                      "vertex-sun positions", start);
 }
 
 namespace {

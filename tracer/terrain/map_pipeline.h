@@ -62,6 +62,35 @@ struct SkyViewMapOptions {
 void writeSkyViewMap(const SkyViewMapOptions& options, const RunListener& listener);
 void writeHorizonMap(const HorizonMapOptions& options, const RunListener& listener);
 
+// A span of whole days, both ends included, as days since 1970-01-01.
+struct DateSpan {
+    int64_t firstDay = 0;
+    int64_t lastDay = 0;
+};
+
+// Parses "YYYY-MM-DD" (one day) or "START/END" (dates, END included); throws InputError naming `option`.
+DateSpan parseDateSpan(const std::string& text, const std::string& option);
+
+// Parses a duration such as 30m, 1h, 90s or 1d into seconds; throws InputError naming `option`.
+int64_t parseDurationSeconds(const std::string& text, const std::string& option);
+
+// `insolation`: clear-sky beam, diffuse, reflected and global irradiation (Wh/m^2 over the dates) and hours of
+// direct sun per vertex, five bands.
+struct InsolationMapOptions {
+    DemSource dem;
+    std::string output;                // GeoTIFF on the DEM's grid
+    DateSpan dates;                    // local solar days at the DEM's centre
+    int64_t stepSeconds = 1800;        // time step within a day (r.sun's default half hour)
+    int dayStep = 1;                   // every n-th day is computed and stands for the n days from it
+    double linkeTurbidity = 3.0;
+    double albedo = 0.2;
+    double maxDistanceM = 0.0;         // terrain farther than this casts no shadow; 0 = the whole DEM
+    double curvatureCoeff = 0.0;
+    SurfaceMethod method = SurfaceMethod::Bilinear;
+    int threads = 0;
+};
+void writeInsolationMap(const InsolationMapOptions& options, const RunListener& listener);
+
 // `viewshed`: 1 visible, 0 hidden, 255 nodata per vertex.
 struct ViewshedMapOptions {
     DemSource dem;
