@@ -9,20 +9,7 @@
 # east, so direction = (90 - azimuth) mod 360. Both read the whole DEM (r.horizon's default maxdistance) and
 # write degrees (r.horizon -d). r.horizon runs on one thread; terracast on all cores (--threads 0).
 set -eu
-here=$(cd "$(dirname "$0")/.." && pwd)
-tc=${2:-$here/build/terracast}
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-if [ $# -ge 1 ]; then
-    dem=$1
-else
-    dem=$work/white-mountains-utm19n-90m.tif
-    gdalwarp -q -t_srs EPSG:32619 -tr 90 90 -r bilinear "$here/data-samples/N44W072.srtm3-white-mountains-nh.hgt" "$dem"
-fi
-grass -c "$dem" "$work/gdb/loc" -e >/dev/null 2>&1
-g() { grass "$work/gdb/loc/PERMANENT" --exec "$@" >/dev/null 2>&1; }
-g r.in.gdal input="$dem" output=dem --quiet
-seconds() { /usr/bin/time -f %e "$@" 2>&1 >/dev/null | tail -1; }
+. "$(dirname "$0")/grass_common.sh"
 # Agreement of two horizon rasters on the vertices both give: the mean and the spread of terracast - r.horizon,
 # and the shares within 0.1 and 1 degree. r.horizon samples the surface a cell apart along the azimuth and
 # interpolates it, so it reads peaks between its samples low; terracast's walk is exact on the bilinear surface.

@@ -9,20 +9,7 @@
 # from east) and places the sun per cell in local solar time; terracast takes the vertex normal of the bilinear
 # surface and places the sun over the DEM's centre in UTC. Both run on 2 threads (r.sun nprocs=2).
 set -eu
-here=$(cd "$(dirname "$0")/.." && pwd)
-tc=${2:-$here/build/terracast}
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-if [ $# -ge 1 ]; then
-    dem=$1
-else
-    dem=$work/white-mountains-utm19n-90m.tif
-    gdalwarp -q -t_srs EPSG:32619 -tr 90 90 -r bilinear "$here/data-samples/N44W072.srtm3-white-mountains-nh.hgt" "$dem"
-fi
-grass -c "$dem" "$work/gdb/loc" -e >/dev/null 2>&1
-g() { grass "$work/gdb/loc/PERMANENT" --exec "$@" >/dev/null 2>&1; }
-g r.in.gdal input="$dem" output=dem --quiet
-seconds() { /usr/bin/time -f %e "$@" 2>&1 >/dev/null | tail -1; }
+. "$(dirname "$0")/grass_common.sh"
 tg=$(seconds grass "$work/gdb/loc/PERMANENT" --exec sh -c "g.region raster=dem --quiet &&
     r.slope.aspect elevation=dem slope=slope aspect=aspect --quiet --overwrite &&
     r.sun elevation=dem slope=slope aspect=aspect day=172 step=0.5 linke_value=3.0 albedo_value=0.2 nprocs=2 \

@@ -39,6 +39,7 @@ void writeFlatLonLat(const std::string& path, double lon, double lat, float heig
 
 // Band `band` (1-based) of a GeoTIFF at sample (x, y), row 0 at the north.
 double sample(const std::string& path, int band, int x, int y) {
+    GDALAllRegister();
     std::unique_ptr<GDALDataset> ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
     REQUIRE(ds);
     double v = 0.0;
@@ -78,6 +79,7 @@ TEST_CASE("CLI: insolation writes five labelled bands and --day-step weighs each
     INFO(a.err);
     REQUIRE(a.exitCode == 0);
     CHECK(a.err.find("vertex-sun positions") != std::string::npos);  // the summary
+    GDALAllRegister();
     std::unique_ptr<GDALDataset> ds(GDALDataset::Open(one.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
     REQUIRE(ds);
     REQUIRE(ds->GetRasterCount() == 5);
