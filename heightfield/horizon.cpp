@@ -9,14 +9,17 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// One horizon walk. The line runs through grid coordinates u(t) = i + t du, v(t) = j + t dv (vertex indices),
-// t in horizontal metres; a point at distance t and height h has the slope (h - z0 - k t^2) / t.
+// One horizon walk. The line runs through grid coordinates u(t) = x0 + t du, v(t) = y0 + t dv (in vertex
+// indices; a vertex's own for the map products, any point for an observer), t in horizontal metres; a point at
+// distance t and height h has the slope (h - z0 - k t^2) / t. `onSurface` says that (x0, y0, z0) lies on the
+// surface, so that the limit t -> 0 is the surface's slope there; above it the limit is -infinity.
 class HorizonWalk {
 public:
-    HorizonWalk(const HeightGrid& g, int64_t i, int64_t j, double du, double dv, bool triangles, const HorizonSearch& s,
-                double floor)
-        : g_(g), i_(i), j_(j), du_(du), dv_(dv), invDu_(du != 0.0 ? 1.0 / du : 0.0), invDv_(dv != 0.0 ? 1.0 / dv : 0.0),
-          z0_(g.at(i, j)), k_(s.dropPerSquareM), triangles_(triangles), best_(floor) {}
+    HorizonWalk(const HeightGrid& g, double x0, double y0, double z0, bool onSurface, double du, double dv,
+                bool triangles, const HorizonSearch& s, double floor)
+        : g_(g), x0_(x0), y0_(y0), du_(du), dv_(dv), invDu_(du != 0.0 ? 1.0 / du : 0.0),
+          invDv_(dv != 0.0 ? 1.0 / dv : 0.0), z0_(z0), k_(s.dropPerSquareM), onSurface_(onSurface),
+          onLineX_(x0 == std::floor(x0)), onLineY_(y0 == std::floor(y0)), triangles_(triangles), best_(floor) {}
 
     double best() const { return best_; }
     double bestDistance() const { return bestT_; }
@@ -30,8 +33,8 @@ public:
 
     // The parameter at which the line crosses the grid line x = c (y = c), through the reciprocal: every crossing
     // comes from these two functions, so the walk's steps and block exits agree on the order of crossings.
-    double atX(int64_t c) const { return du_ != 0.0 ? double(c - i_) * invDu_ : kInf; }
-    double atY(int64_t c) const { return dv_ != 0.0 ? double(c - j_) * invDv_ : kInf; }
+    double atX(int64_t c) const { return du_ != 0.0 ? (double(c) - x0_) * invDu_ : kInf; }
+    double atY(int64_t c) const { return dv_ != 0.0 ? (double(c) - y0_) * invDv_ : kInf; }
     // The exit parameter of cell column ci (row cj): where the line crosses the cell's far grid line.
     double exitX(int64_t ci) const { return atX(du_ > 0.0 ? ci + 1 : ci); }
     double exitY(int64_t cj) const { return atY(dv_ > 0.0 ? cj + 1 : cj); }
@@ -59,8 +62,11 @@ public:
     // with gamma > 0 it is a minimum). At ta = 0 (the vertex itself, hA = z0) the limit is the slope in t.
     template <class At>
     void stretch(double ta, double tb, double hA, double slope, double c, At&& at) {
-        if (ta == 0.0) seed(0.0, slope);
-        else if (ta != lastEnd_) consider(ta, hA);  // else the stretch before ended here, at the same point
+        if (ta == 0.0) {
+            if (onSurface_) seed(0.0, slope);
+        } else if (ta != lastEnd_) {
+            consider(ta, hA);
+        }  // else the stretch before ended here, at the same point
         consider(tb, at(tb));
         lastEnd_ = tb;
         const double gamma = c - k_;
@@ -74,15 +80,20 @@ public:
         }
     }
 
-    // The surface of cell (ci, cj) over [ta, tb] (tb > ta). Along a grid line (du or dv zero) the surface is the
-    // edge between the line's two vertices, linear in both methods.
+    // True when the line runs along a grid line (du or dv zero, from a point on that grid line).
+    bool alongGridLine() const { return (du_ == 0.0 && onLineX_) || (dv_ == 0.0 && onLineY_); }
+
+    // The surface of cell (ci, cj) over [ta, tb] (tb > ta). Along a grid line the surface is the edge between the
+    // line's two vertices, linear in both methods.
     void solveCell(int64_t ci, int64_t cj, double ta, double tb) {
-        if (du_ == 0.0 || dv_ == 0.0) {
-            // The edge's vertices: (i, cj) to (i, cj + 1) along a north-south line, (ci, j) to (ci + 1, j) east-west.
-            const bool northSouth = du_ == 0.0;
-            const double hLo = northSouth ? g_.at(i_, cj) : g_.at(ci, j_);
-            const double hHi = northSouth ? g_.at(i_, cj + 1) : g_.at(ci + 1, j_);
-            const double s0 = northSouth ? double(j_ - cj) : double(i_ - ci), ds = northSouth ? dv_ : du_;
+        if (alongGridLine()) {
+            // The edge's vertices: (x0, cj) to (x0, cj + 1) along a north-south line, (ci, y0) to (ci + 1, y0)
+            // east-west.
+            const bool northSouth = du_ == 0.0 && onLineX_;
+            const int64_t li = int64_t(x0_), lj = int64_t(y0_);
+            const double hLo = northSouth ? g_.at(li, cj) : g_.at(ci, lj);
+            const double hHi = northSouth ? g_.at(li, cj + 1) : g_.at(ci + 1, lj);
+            const double s0 = northSouth ? y0_ - double(cj) : x0_ - double(ci), ds = northSouth ? dv_ : du_;
             auto at = [&](double t) { return hLo + (hHi - hLo) * std::clamp(s0 + t * ds, 0.0, 1.0); };
             stretch(ta, tb, at(ta), (hHi - hLo) * ds, 0.0, at);
             return;
@@ -91,7 +102,7 @@ public:
         // Both surfaces stay within the corners' range: a cell whose highest corner cannot raise the horizon is
         // passed without solving it (the start cell, at ta = 0, always is solved: its slope counts).
         if (ta > 0.0 && !canRaise(std::max(std::max(h00, h10), std::max(h01, h11)), ta, tb)) return;
-        const double u0 = double(i_ - ci), v0 = double(j_ - cj);  // the vertex in the cell's frame
+        const double u0 = x0_ - double(ci), v0 = y0_ - double(cj);  // the origin in the cell's frame
         auto uAt = [&](double t) { return std::clamp(u0 + t * du_, 0.0, 1.0); };
         auto vAt = [&](double t) { return std::clamp(v0 + t * dv_, 0.0, 1.0); };
         if (!triangles_) {
@@ -128,9 +139,10 @@ public:
 
 private:
     const HeightGrid& g_;
-    int64_t i_, j_;
+    double x0_, y0_;
     double du_, dv_, invDu_, invDv_;
     double z0_, k_;
+    bool onSurface_, onLineX_, onLineY_;
     bool triangles_;
     double best_;
     double lastEnd_ = -1.0;  // where the last stretch solved ended
@@ -139,9 +151,10 @@ private:
 
 // The walk behind horizonTangent and horizonAbove: the supremum of the slopes, or `floor` when none exceeds it;
 // with `stopAbove`, it ends as soon as one does.
-double walkHorizon(const HeightGrid& g, int64_t i, int64_t j, double dirX, double dirY, CellMethod method,
-                   const HorizonSearch& search, HorizonCounters* counters, double floor, bool stopAbove,
-                   double hintM = 0.0, double* distanceM = nullptr) {
+// The origin is (x0, y0) in vertex indices at height z0, on the surface or above it.
+double walkHorizon(const HeightGrid& g, double x0, double y0, double z0, bool onSurface, double dirX, double dirY,
+                   CellMethod method, const HorizonSearch& search, HorizonCounters* counters, double floor,
+                   bool stopAbove, double hintM = 0.0, double* distanceM = nullptr) {
     if (method == CellMethod::Nearest) throw GridError("the horizon walk needs a surface through the vertices, not nearest");
     const double norm = std::hypot(dirX, dirY);
     if (!(norm > 0.0)) return floor;
@@ -149,13 +162,13 @@ double walkHorizon(const HeightGrid& g, int64_t i, int64_t j, double dirX, doubl
     // A direction within rounding of a grid line (azimuth 90 gives cos(pi / 2), about 6e-17, for y) runs along it.
     if (std::abs(du) < 1e-12 * std::abs(dv)) du = 0.0;
     if (std::abs(dv) < 1e-12 * std::abs(du)) dv = 0.0;
-    HorizonWalk walk(g, i, j, du, dv, method == CellMethod::Triangles, search, floor);
+    HorizonWalk walk(g, x0, y0, z0, onSurface, du, dv, method == CellMethod::Triangles, search, floor);
     if (hintM > 1e-3 * std::min(g.cellSizeXM(), g.cellSizeYM()) && hintM <= search.maxDistanceM) {
         // The surface point at the hint's distance along the line, when a valid cell holds it: its slope is a lower
         // bound of the supremum, from which the walk starts (and so skips more). A thousandth of a cell out at
         // least, so that the rounding of h - z0 stays small against the distance; and lowered by a billionth, so
         // that the walk still solves the cell the point lies in and returns its own value, as without a hint.
-        const double u = double(i) + hintM * du, v = double(j) + hintM * dv;
+        const double u = x0 + hintM * du, v = y0 + hintM * dv;
         if (u >= 0.0 && v >= 0.0 && u <= double(g.cellsX()) && v <= double(g.cellsY())) {
             const int64_t ci = std::min(int64_t(u), g.cellsX() - 1), cj = std::min(int64_t(v), g.cellsY() - 1);
             if (g.cellValid(ci, cj)) {
@@ -168,7 +181,6 @@ double walkHorizon(const HeightGrid& g, int64_t i, int64_t j, double dirX, doubl
                     h = h00 + (h10 - h00) * fu + (h01 - h00) * fv;
                 else
                     h = h11 + (h11 - h01) * (fu - 1.0) + (h11 - h10) * (fv - 1.0);
-                const double z0 = g.at(i, j);
                 const double slope = (h - z0 - search.dropPerSquareM * hintM * hintM) / hintM;
                 // Lowered past the rounding of h - z0 (a few ulps of the heights, over the distance) as well.
                 const double margin = 1e-9 * (1.0 + std::abs(slope)) +
@@ -178,18 +190,21 @@ double walkHorizon(const HeightGrid& g, int64_t i, int64_t j, double dirX, doubl
         }
     }
 
-    // The cell the line leaves the vertex over; along a grid line, the column (row) on the line's east (north)
-    // side, or its west (south) side on the grid's last line, standing for both.
+    // The cell the line leaves the origin over: from a vertex (or a grid line), the one the direction points
+    // into; along a grid line, the column (row) on the line's east (north) side, or its west (south) side on the
+    // grid's last line, standing for both. From inside a cell, that cell.
     const int64_t nx = g.cellsX(), ny = g.cellsY();
-    int64_t ci = du > 0.0 ? i : du < 0.0 ? i - 1 : std::min(i, nx - 1);
-    int64_t cj = dv > 0.0 ? j : dv < 0.0 ? j - 1 : std::min(j, ny - 1);
+    const bool onLineX = x0 == std::floor(x0), onLineY = y0 == std::floor(y0);
+    const int64_t i = int64_t(std::floor(x0)), j = int64_t(std::floor(y0));
+    int64_t ci = !onLineX ? std::min(i, nx - 1) : du > 0.0 ? i : du < 0.0 ? i - 1 : std::min(i, nx - 1);
+    int64_t cj = !onLineY ? std::min(j, ny - 1) : dv > 0.0 ? j : dv < 0.0 ? j - 1 : std::min(j, ny - 1);
     const int64_t stepI = du > 0.0 ? 1 : du < 0.0 ? -1 : 0, stepJ = dv > 0.0 ? 1 : dv < 0.0 ? -1 : 0;
     auto inGrid = [&](int64_t a, int64_t b) { return a >= 0 && b >= 0 && a < nx && b < ny; };
     // Along a grid line a stretch has surface when the cell on either side is valid.
     auto hasSurface = [&](int64_t a, int64_t b) {
         if (g.cellValid(a, b)) return true;
-        if (du == 0.0 && i > 0 && i < nx && a == i) return g.cellValid(i - 1, b);
-        if (dv == 0.0 && j > 0 && j < ny && b == j) return g.cellValid(a, j - 1);
+        if (du == 0.0 && onLineX && i > 0 && i < nx && a == i) return g.cellValid(i - 1, b);
+        if (dv == 0.0 && onLineY && j > 0 && j < ny && b == j) return g.cellValid(a, j - 1);
         return false;
     };
     // Where the line leaves the grid (or the search radius), from the same crossing parameters as the cells' exits.
@@ -221,13 +236,13 @@ double walkHorizon(const HeightGrid& g, int64_t i, int64_t j, double dirX, doubl
                     // other axis the one whose stretch holds tOut (from the same exit parameters as a cell step).
                     if (txb <= tyb) ci = du > 0.0 ? (bi + 1) << lv : (bi << lv) - 1;
                     else if (du != 0.0) {
-                        ci = std::clamp<int64_t>(int64_t(std::floor(double(i) + tOut * du)), bi << lv, ((bi + 1) << lv) - 1);
+                        ci = std::clamp<int64_t>(int64_t(std::floor(x0 + tOut * du)), bi << lv, ((bi + 1) << lv) - 1);
                         while (walk.exitX(ci) <= tOut) ci += stepI;
                         while (walk.exitX(ci - stepI) > tOut) ci -= stepI;
                     }
                     if (tyb <= txb) cj = dv > 0.0 ? (bj + 1) << lv : (bj << lv) - 1;
                     else if (dv != 0.0) {
-                        cj = std::clamp<int64_t>(int64_t(std::floor(double(j) + tOut * dv)), bj << lv, ((bj + 1) << lv) - 1);
+                        cj = std::clamp<int64_t>(int64_t(std::floor(y0 + tOut * dv)), bj << lv, ((bj + 1) << lv) - 1);
                         while (walk.exitY(cj) <= tOut) cj += stepJ;
                         while (walk.exitY(cj - stepJ) > tOut) cj -= stepJ;
                     }
@@ -275,19 +290,28 @@ double walkHorizon(const HeightGrid& g, int64_t i, int64_t j, double dirX, doubl
 
 double horizonTangent(const HeightGrid& g, int64_t i, int64_t j, double dirX, double dirY, CellMethod method,
                       const HorizonSearch& search, HorizonCounters* counters) {
-    return walkHorizon(g, i, j, dirX, dirY, method, search, counters, -kInf, false);
+    return walkHorizon(g, double(i), double(j), g.at(i, j), true, dirX, dirY, method, search, counters, -kInf, false);
 }
 
 HorizonPoint horizonPoint(const HeightGrid& g, int64_t i, int64_t j, double dirX, double dirY, CellMethod method,
                           const HorizonSearch& search, double hintDistanceM, HorizonCounters* counters) {
     HorizonPoint p;
-    p.tangent = walkHorizon(g, i, j, dirX, dirY, method, search, counters, -kInf, false, hintDistanceM, &p.distanceM);
+    p.tangent = walkHorizon(g, double(i), double(j), g.at(i, j), true, dirX, dirY, method, search, counters, -kInf,
+                            false, hintDistanceM, &p.distanceM);
     return p;
 }
 
 bool horizonAbove(const HeightGrid& g, int64_t i, int64_t j, double dirX, double dirY, double tangent,
                   CellMethod method, const HorizonSearch& search, HorizonCounters* counters) {
-    return walkHorizon(g, i, j, dirX, dirY, method, search, counters, tangent, true) > tangent;
+    return walkHorizon(g, double(i), double(j), g.at(i, j), true, dirX, dirY, method, search, counters, tangent,
+                       true) > tangent;
+}
+
+double horizonTangentFrom(const HeightGrid& g, double xM, double yM, double zM, double dirX, double dirY,
+                          CellMethod method, const HorizonSearch& search, HorizonCounters* counters) {
+    const double x0 = std::clamp(xM * g.cellsPerMetreX(), 0.0, double(g.cellsX()));
+    const double y0 = std::clamp(yM * g.cellsPerMetreY(), 0.0, double(g.cellsY()));
+    return walkHorizon(g, x0, y0, zM, false, dirX, dirY, method, search, counters, -kInf, false);
 }
 
 }  // namespace terracast

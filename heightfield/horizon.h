@@ -51,6 +51,14 @@ HorizonPoint horizonPoint(const HeightGrid& grid, int64_t i, int64_t j, double d
                           const HorizonSearch& search = {}, double hintDistanceM = 0.0,
                           HorizonCounters* counters = nullptr);
 
+// The horizon's tangent seen from a point above the surface (an observer's eye) at local (xM, yM) and height zM:
+// the supremum over the surface points p along the horizontal line towards (dirX, dirY), at distance d > 0 up to
+// search.maxDistanceM (included), of (h(p) - drop(d) - zM) / d, solved per cell as horizonTangent's walk;
+// -infinity when the line meets no surface. The point is clamped to the grid. The point itself needs no surface
+// under it; a point below the surface gets the same supremum (no start-cell rule applies).
+double horizonTangentFrom(const HeightGrid& grid, double xM, double yM, double zM, double dirX, double dirY,
+                          CellMethod method, const HorizonSearch& search = {}, HorizonCounters* counters = nullptr);
+
 // True when the horizon at vertex (i, j) towards (dirX, dirY) lies strictly above the slope `tangent`: a ray
 // from the vertex at that slope passes below the surface somewhere (a sun there is blocked; at exactly the
 // horizon it grazes and is not). The same walk as horizonTangent, ending at the first point above the slope and

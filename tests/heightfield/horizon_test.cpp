@@ -20,36 +20,60 @@ constexpr double kPiHere = 3.14159265358979323846;
 
 double deg(double tangent) { return std::atan(tangent) * 180.0 / kPiHere; }
 
-// The largest slope from vertex (i, j) to surface points along (dirX, dirY): sampled every 1/4000 of a cell
-// (and from a millionth of a cell on, for the slope at the vertex), and where the line crosses the lines
-// u = m, v = m and u + v = m, on which the surfaces have their kinks, and at the search radius. A lower bound of the exact supremum.
-double marchTangent(const HeightGrid& g, int64_t i, int64_t j, double dirX, double dirY, bool triangles,
-                    const HorizonSearch& s) {
+// The largest slope from the point (x0, y0) (vertex indices) at height z0 to surface points along (dirX, dirY):
+// sampled every 1/4000 of a cell (and from a millionth of a cell on, for the slope at a vertex), and where the
+// line crosses the lines u = m, v = m and u + v = m, on which the surfaces have their kinks, and at the search
+// radius. A lower bound of the exact supremum.
+double marchTangentFrom(const HeightGrid& g, double x0, double y0, double z0, double dirX, double dirY, bool triangles,
+                        const HorizonSearch& s) {
     const double n = std::hypot(dirX, dirY);
     const double eu = dirX / n / g.cellSizeXM(), ev = dirY / n / g.cellSizeYM();  // cells per metre
-    const double z0 = g.at(i, j), cell = std::min(g.cellSizeXM(), g.cellSizeYM());
+    const double cell = std::min(g.cellSizeXM(), g.cellSizeYM());
     std::vector<double> ts;
     for (double t = 1e-6 * cell; t < 1e-3 * cell; t *= 10.0) ts.push_back(t);
     const double span = std::hypot(g.extentXM(), g.extentYM());
     for (double t = 1e-3 * cell; t <= span; t += cell / 4000.0) ts.push_back(t);
     if (std::isfinite(s.maxDistanceM)) ts.push_back(s.maxDistanceM);  // the search radius ends a stretch too
     for (int64_t m = -100; m <= 100; ++m) {
-        if (eu != 0.0) ts.push_back((double(m) - double(i)) / eu);
-        if (ev != 0.0) ts.push_back((double(m) - double(j)) / ev);
-        if (eu + ev != 0.0) ts.push_back((double(m) - double(i) - double(j)) / (eu + ev));
+        if (eu != 0.0) ts.push_back((double(m) - x0) / eu);
+        if (ev != 0.0) ts.push_back((double(m) - y0) / ev);
+        if (eu + ev != 0.0) ts.push_back((double(m) - x0 - y0) / (eu + ev));
     }
     double best = -std::numeric_limits<double>::infinity();
     for (double t : ts) {
         if (!(t > 0.0) || t > s.maxDistanceM) continue;
-        double u = double(i) + t * eu, v = double(j) + t * ev;
-        // Along an axis the other coordinate stays exactly on its grid line.
-        if (std::abs(eu) < 1e-12 * std::abs(ev)) u = double(i);
-        if (std::abs(ev) < 1e-12 * std::abs(eu)) v = double(j);
+        double u = x0 + t * eu, v = y0 + t * ev;
+        // Along an axis the other coordinate stays exactly on its line.
+        if (std::abs(eu) < 1e-12 * std::abs(ev)) u = x0;
+        if (std::abs(ev) < 1e-12 * std::abs(eu)) v = y0;
         if (u < -1e-9 || v < -1e-9 || u > double(g.cellsX()) + 1e-9 || v > double(g.cellsY()) + 1e-9) continue;
         const double h = surfaceAt(g, std::clamp(u, 0.0, double(g.cellsX())), std::clamp(v, 0.0, double(g.cellsY())), triangles);
         if (!std::isnan(h)) best = std::max(best, (h - z0 - s.dropPerSquareM * t * t) / t);
     }
     return best;
+}
+
+// The same from vertex (i, j) at its own height.
+double marchTangent(const HeightGrid& g, int64_t i, int64_t j, double dirX, double dirY, bool triangles,
+                    const HorizonSearch& s) {
+    return marchTangentFrom(g, double(i), double(j), g.at(i, j), dirX, dirY, triangles, s);
+}
+
+// Fractal terrain with nodata patches (holes one and two cells wide), 33 x 33 vertices of 30 x 21 m. The nodata
+// vertices hold heights 2 km up, so a walk that reads a hole as surface shows it.
+HeightGrid holedFractal(std::mt19937_64& rng) {
+    HeightGrid base = fractalTerrain({.size = 33, .seed = 5, .cellSizeM = 30.0, .offsetAt1KmM = 600.0});
+    std::vector<float> z = base.copyHeights();
+    std::vector<uint8_t> valid(z.size(), 1);
+    std::uniform_int_distribution<int64_t> V(1, 31);
+    for (int k = 0; k < 8; ++k) {
+        const int64_t ci = V(rng), cj = V(rng);
+        valid[size_t(cj * 33 + ci)] = 0;
+        if (k % 2) valid[size_t(cj * 33 + ci + 1)] = 0;  // holes two cells wide too
+    }
+    for (size_t v = 0; v < z.size(); ++v)
+        if (!valid[v]) z[v] += 2000.0f;
+    return HeightGrid(33, 33, 30.0, 21.0, z, valid);
 }
 
 }  // namespace
@@ -97,17 +121,8 @@ TEST_CASE("Horizon walk: a ridge's horizon is its crest's elevation angle at any
 TEST_CASE("Horizon walk: the exact supremum of a dense march over fractal terrain with holes", "[heightfield][horizon]") {
     // 33 x 33 vertices of rugged terrain, cells of 30 x 21 m, with nodata patches: lines run over holes, along
     // grid lines beside them and through vertices between them.
-    HeightGrid base = fractalTerrain({.size = 33, .seed = 5, .cellSizeM = 30.0, .offsetAt1KmM = 600.0});
-    std::vector<float> z = base.copyHeights();
-    std::vector<uint8_t> valid(z.size(), 1);
     std::mt19937_64 rng(11);
-    std::uniform_int_distribution<int64_t> V(1, 31);
-    for (int k = 0; k < 8; ++k) {
-        const int64_t ci = V(rng), cj = V(rng);
-        valid[size_t(cj * 33 + ci)] = 0;
-        if (k % 2) valid[size_t(cj * 33 + ci + 1)] = 0;  // holes two cells wide too
-    }
-    const HeightGrid g(33, 33, 30.0, 21.0, z, valid);
+    const HeightGrid g = holedFractal(rng);
     std::uniform_int_distribution<int64_t> I(0, 32);
     std::uniform_real_distribution<double> A(0.0, 360.0);
     HorizonSearch far, near, curved, raised;
@@ -179,4 +194,57 @@ TEST_CASE("Horizon walk: a hint changes the work and not the answer, and the dis
             CHECK((h - g.at(i, j)) / exact.distanceM == Approx(exact.tangent).epsilon(1e-9).margin(1e-12));
         }
     CHECK(hinted > 100);  // a hint at the horizon point saves cells
+}
+
+TEST_CASE("Horizon walk from an observer above the surface: the supremum of a dense march", "[heightfield][horizon]") {
+    // Eyes anywhere over the grid (inside cells, on grid lines, at vertices, over holes), 0 to 60 m above the
+    // surface or at a set height, looking along random azimuths and the axes, with and without a radius.
+    std::mt19937_64 rng(23);
+    const HeightGrid g = holedFractal(rng);
+    std::uniform_real_distribution<double> X(0.0, 32.0), A(0.0, 360.0), H(0.0, 60.0);
+    std::uniform_int_distribution<int> I(0, 32);
+    HorizonSearch far, near, curved;
+    near.maxDistanceM = 137.0;
+    curved.dropPerSquareM = 0.01;
+    int64_t compared = 0;
+    for (CellMethod method : {CellMethod::Bilinear, CellMethod::Triangles}) {
+        const bool triangles = method == CellMethod::Triangles;
+        for (int k = 0; k < 60; ++k) {
+            double x = X(rng), y = X(rng);
+            if (k % 5 == 1) x = double(I(rng));                // on a north-south grid line
+            if (k % 5 == 2) y = double(I(rng));                // on an east-west one
+            if (k % 5 == 3) x = double(I(rng)), y = double(I(rng));  // at a vertex
+            const bool alongColumn = k % 10 == 9;
+            if (alongColumn) {
+                // Inside a column of cells that holds a hole, south of it, looking north along the column.
+                bool found = false;
+                for (int64_t cj = 2; cj < 32 && !found; ++cj)
+                    for (int64_t ci = 1; ci < 32 && !found; ++ci)
+                        if (!g.cellValid(ci, cj) && g.cellValid(ci - 1, cj) && g.cellValid(ci, cj - 2)) {
+                            x = double(ci) + 0.3, y = double(cj) - 1.5;
+                            found = true;
+                        }
+                REQUIRE(found);
+            }
+            const double ground = surfaceAt(g, x, y, triangles);
+            const double z = std::isnan(ground) ? 400.0 : ground + (k % 3 == 0 ? 1.7 : H(rng));
+            const double azimuths[] = {0.0, 90.0, 180.0, 270.0, A(rng), A(rng)};
+            const double az = alongColumn ? 0.0 : azimuths[k % 6];
+            const double dx = std::sin(az * kPiHere / 180.0), dy = std::cos(az * kPiHere / 180.0);
+            for (const HorizonSearch* s : {&far, &near, &curved}) {
+                const double walk = horizonTangentFrom(g, x * 30.0, y * 21.0, z, dx, dy, method, *s);
+                const double march = marchTangentFrom(g, x, y, z, dx, dy, triangles, *s);
+                INFO(cellMethodName(method) << " eye " << x << "," << y << " at " << z << " m, azimuth " << az
+                                            << " radius " << s->maxDistanceM << " drop " << s->dropPerSquareM);
+                if (std::isinf(march)) {
+                    CHECK(walk == march);
+                    continue;
+                }
+                CHECK(deg(walk) >= deg(march) - 1e-6);
+                CHECK(deg(walk) - deg(march) < 1e-4);
+                ++compared;
+            }
+        }
+    }
+    CHECK(compared > 250);
 }
