@@ -140,7 +140,7 @@ void addMapCommands(CLI::App& app, Commands& commands) {
     {
         struct Texts {
             ViewshedMapOptions options;
-            std::string observer, method = "bilinear";
+            std::string observer, method = "bilinear", values = "visible";
         };
         auto t = std::make_shared<Texts>();
         ViewshedMapOptions& v = t->options;
@@ -159,6 +159,9 @@ void addMapCommands(CLI::App& app, Commands& commands) {
         cmd->add_flag("--lonlat", v.lonLat, "The observer is WGS84 longitude,latitude");
         cmd->add_option("--observer-height", v.observerHeightM, "Metres above the terrain (default 1.7)");
         cmd->add_option("--target-height", v.targetHeightM, "Metres above the terrain (default 0)");
+        cmd->add_option("--values", t->values,
+                        "visible (1/0, Byte), angle (degrees from the eye to each visible target, Float32) or height "
+                        "(metres above the ground a target needs to be seen, Float32); default visible");
         cmd->add_option("--curvature-coeff", v.curvatureCoeff,
                         "Earth curvature and refraction, as gdal_viewshed -cc (default 0.85714; 0 = flat earth)");
         addThreadsAndMethod(*cmd, v.threads, t->method);
@@ -171,6 +174,7 @@ void addMapCommands(CLI::App& app, Commands& commands) {
                                         throw InputError(
                                             fmt::format("--observer: expected X,Y, found '{}'", t->observer));
                                     t->options.method = parseMethodOption(t->method);
+                                    t->options.values = parseViewshedValues(t->values, "--values");
                                     writeViewshedMap(t->options, ConsoleListener(false).listener());
                                 });
                             }});

@@ -328,3 +328,61 @@ TEST_CASE("CLI: viewshed from many observers counts them and a vector file in an
     CHECK(cut > 100);  // visible, but beyond 2 km
     fs::remove_all(dir);
 }
+
+TEST_CASE("CLI: viewshed --values height and angle write what a target needs and the angle it is seen at",
+          "[cli][maps]") {
+    const fs::path dir = fs::temp_directory_path() / ("terracast-maps-values-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::string base = "viewshed '" + kDem + "' --observer 325000,5103000 --observer-height 2 ";
+    const std::string vis = (dir / "vis.tif").string(), need = (dir / "need.tif").string(),
+                      angle = (dir / "angle.tif").string();
+    for (const std::string& args : {base + "-o '" + vis + "'", base + "--values height -o '" + need + "'",
+                                    base + "--values angle -o '" + angle + "'"}) {
+        const auto r = runTerracast(args);
+        INFO(args << "\n" << r.err);
+        REQUIRE(r.exitCode == 0);
+    }
+    GDALAllRegister();
+    auto read = [](const std::string& path, std::string& unit, double& noData) {
+        std::unique_ptr<GDALDataset> ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+        REQUIRE(ds);
+        GDALRasterBand* b = ds->GetRasterBand(1);
+        unit = b->GetUnitType();
+        noData = b->GetNoDataValue();
+        std::vector<double> v(size_t(ds->GetRasterXSize()) * size_t(ds->GetRasterYSize()));
+        REQUIRE(b->RasterIO(GF_Read, 0, 0, ds->GetRasterXSize(), ds->GetRasterYSize(), v.data(), ds->GetRasterXSize(),
+                            ds->GetRasterYSize(), GDT_Float64, 0, 0) == CE_None);
+        return v;
+    };
+    std::string unitV, unitN, unitA;
+    double ndV = 0, ndN = 0, ndA = 0;
+    const auto v = read(vis, unitV, ndV), n = read(need, unitN, ndN), a = read(angle, unitA, ndA);
+    CHECK(unitN == "m");
+    CHECK(unitA == "degree");
+    // Where the ground is seen it needs no height and has an angle; where it is hidden it needs some and has none.
+    int64_t seen = 0, hidden = 0;
+    for (size_t k = 0; k < v.size(); ++k) {
+        if (v[k] == ndV) {
+            CHECK(n[k] == ndN);
+            continue;
+        }
+        if (n[k] > 0.0 && n[k] < 0.01) continue;  // grazing sight lines
+        INFO("sample " << k);
+        CHECK((v[k] == 1.0) == (n[k] == 0.0));
+        CHECK((v[k] == 1.0) == (a[k] != ndA));
+        (v[k] == 1.0 ? seen : hidden) += 1;
+        if (v[k] == 1.0) CHECK(std::abs(a[k]) < 90.0);
+    }
+    CHECK(seen > 100);
+    CHECK(hidden > 100);
+    // Angles and heights are for one observer; a value name must be known.
+    const auto many = runTerracast("viewshed '" + kDem + "' --observers '" + (dir / "x.csv").string() +
+                                   "' --values height -o '" + (dir / "m.tif").string() + "'");
+    CHECK(many.exitCode != 0);
+    CHECK(many.err.find("--values: angle and height are for one --observer") != std::string::npos);
+    const auto bad = runTerracast(base + "--values depth -o '" + (dir / "b.tif").string() + "'");
+    CHECK(bad.exitCode != 0);
+    CHECK(bad.err.find("--values: expected visible, angle or height, found 'depth'") != std::string::npos);
+    fs::remove_all(dir);
+}

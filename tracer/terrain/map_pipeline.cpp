@@ -423,8 +423,17 @@ void observerToLocal(const LoadedDem& dem, double x, double y, const std::string
 
 }  // namespace
 
+ViewshedValues parseViewshedValues(const std::string& text, const std::string& option) {
+    if (text == "visible") return ViewshedValues::Visible;
+    if (text == "angle") return ViewshedValues::Angle;
+    if (text == "height") return ViewshedValues::Height;
+    throw InputError(fmt::format("{}: expected visible, angle or height, found '{}'", option, text));
+}
+
 void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) {
     checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
+    if (!o.observersFile.empty() && o.values != ViewshedValues::Visible)
+        throw InputError("viewshed --values: angle and height are for one --observer; --observers counts visibility");
     if (!std::isfinite(o.observerHeightM) || !std::isfinite(o.targetHeightM) || !std::isfinite(o.curvatureCoeff))
         throw InputError("--observer-height, --target-height and --curvature-coeff must be finite numbers");
     if (!(o.maxDistanceM >= 0.0) || !std::isfinite(o.maxDistanceM))
@@ -448,6 +457,7 @@ void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) 
         observers.push_back({xM, yM, p.heightM.value_or(o.observerHeightM)});
     }
     s.targetHeightM = o.targetHeightM;
+    s.values = o.values;
     s.curvatureCoeff = o.curvatureCoeff;
     s.maxDistanceM = o.maxDistanceM;
     s.threads = o.threads;
@@ -477,6 +487,13 @@ void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) 
     RasterLabels labels;
     labels.bands = {many ? "observers that see the vertex" : "visible from the observer: 1 visible, 0 hidden"};
     labels.units = {"1"};
+    if (o.values == ViewshedValues::Angle) {
+        labels.bands = {"elevation angle from the observer's eye to the visible target (nodata where hidden)"};
+        labels.units = {"degree"};
+    } else if (o.values == ViewshedValues::Height) {
+        labels.bands = {"height above the ground a target needs to be seen from the observer"};
+        labels.units = {"m"};
+    }
     labels.metadata = {{"TERRACAST_PRODUCT", "viewshed"},
                        {"TERRACAST_OBSERVERS", many ? o.observersFile : fmt::format("{},{}", o.observerX, o.observerY)},
                        {"TERRACAST_OBSERVER_COUNT", std::to_string(n)},
@@ -486,8 +503,10 @@ void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) 
                        {"TERRACAST_MAX_DISTANCE_M", number(o.maxDistanceM)},
                        {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
                        {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
+    labels.metadata.emplace_back("TERRACAST_VALUES", o.values == ViewshedValues::Visible ? "visible"
+                                                     : o.values == ViewshedValues::Angle ? "angle" : "height");
     // Counts up to 254 fit a byte beside the nodata value 255.
-    const bool bytes = n <= 254;
+    const bool bytes = n <= 254 && o.values == ViewshedValues::Visible;
     const int64_t valid = int64_t(std::count_if(count.values.begin(), count.values.end(), [](float v) { return !std::isnan(v); }));
     const RasterShape shape(count);
     writeVertexRaster(o.output, dem, std::move(count), bytes ? RasterType::Byte : RasterType::Float32,

@@ -9,6 +9,7 @@
 #include "tracer/core/surface_method.h"
 #include "tracer/sky/calendar.h"
 #include "tracer/terrain/dem_pipeline.h"
+#include "tracer/terrain/maps.h"
 
 #include <string>
 #include <vector>
@@ -103,9 +104,13 @@ struct ViewshedMapOptions {
     double curvatureCoeff = 0.85714;   // as gdal_viewshed's -cc; 0 = flat earth
     double maxDistanceM = 0.0;         // targets farther are not seen; 0 = no limit
     std::string observersFile;         // when set: many observers (readSitePoints), the count that see each vertex
+    ViewshedValues values = ViewshedValues::Visible;  // or the angle seen at, or the height needed (one observer)
     SurfaceMethod method = SurfaceMethod::Bilinear;
     int threads = 0;
 };
+
+// Parses "visible", "angle" or "height"; throws InputError naming `option`.
+ViewshedValues parseViewshedValues(const std::string& text, const std::string& option);
 void writeViewshedMap(const ViewshedMapOptions& options, const RunListener& listener);
 
 }  // namespace terracast

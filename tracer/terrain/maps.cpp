@@ -386,16 +386,33 @@ MapRaster viewshed(const HeightGrid& grid, const ViewshedSettings& s) {
                         ") m is not over the DEM's surface");
     const glm::dvec3 eye = ground->pointM + glm::dvec3(0.0, 0.0, s.observerHeightM);
     const double endGap = 0.01 * std::min(g->cellSizeXM(), g->cellSizeYM());
+    const bool visibleOnly = s.values == ViewshedValues::Visible;
     return perVertex(*g, s.threads, s.progress, 1, [&](int64_t i, int64_t j) {
         if (!g->vertexValid(i, j)) return kNaN;
         const glm::dvec3 target{double(i) * g->cellSizeXM(), double(j) * g->cellSizeYM(),
                                 double(g->at(i, j)) + s.targetHeightM};
         const glm::dvec3 d = target - eye;
-        if (s.maxDistanceM > 0.0 && d.x * d.x + d.y * d.y > s.maxDistanceM * s.maxDistanceM) return 0.0f;
+        const double horizontal = std::hypot(d.x, d.y);
+        if (s.maxDistanceM > 0.0 && horizontal > s.maxDistanceM) return visibleOnly ? 0.0f : kNaN;
+        if (s.values == ViewshedValues::Height) {
+            // The sight line to (target, h + t) clears every surface point p at distance r along the way when
+            // z_eye + r (h + t - z_eye) / D >= h(p), that is t >= D (h(p) - z_eye) / r + z_eye - h.
+            if (!(horizontal > 0.0)) return 0.0f;
+            HorizonSearch within;
+            within.maxDistanceM = horizontal;
+            const double tangent = horizonTangentFrom(*g, eye.x, eye.y, eye.z, d.x, d.y, s.method, within);
+            const double h = double(g->at(i, j));
+            const double need = horizontal * tangent + eye.z - h;
+            // The supremum includes the target itself, where the sum is zero up to its rounding: the ground that is
+            // seen needs nothing.
+            const double rounding = 1e-9 * (1.0 + std::abs(eye.z) + std::abs(h));
+            return std::isfinite(need) && need > rounding ? float(need) : 0.0f;
+        }
         const double len = glm::length(d);
-        if (len <= endGap) return 1.0f;
         // The sight line stops just short of the target, so a target on the surface does not hide itself.
-        return occluded(*g, Ray{eye, d}, {0.0, 1.0 - endGap / len}, s.method) ? 0.0f : 1.0f;
+        const bool seen = len <= endGap || !occluded(*g, Ray{eye, d}, {0.0, 1.0 - endGap / len}, s.method);
+        if (visibleOnly) return seen ? 1.0f : 0.0f;
+        return seen ? float(degrees(std::atan2(d.z, horizontal))) : kNaN;
     });
 }
 

@@ -79,8 +79,16 @@ struct SkyViewSettings {
 // open sky. NaN on nodata and for nearest (which throws).
 MapRaster skyView(const HeightGrid& grid, const SkyViewSettings& settings);
 
+// What a viewshed raster holds per vertex.
+enum class ViewshedValues {
+    Visible,  // 1 visible, 0 hidden
+    Angle,    // the elevation angle in degrees from the eye to the target where visible (NaN where hidden)
+    Height,   // the metres above the ground a target needs to be seen (0 where the ground itself is)
+};
+
 // Observer and target settings of a viewshed.
 struct ViewshedSettings {
+    ViewshedValues values = ViewshedValues::Visible;
     double observerXM = 0.0;           // local metres
     double observerYM = 0.0;
     double observerHeightM = 1.7;      // above the terrain
@@ -94,8 +102,11 @@ struct ViewshedSettings {
 };
 
 // Per vertex: 1 when a target at targetHeightM above it is visible from the observer, 0 when hidden, NaN on
-// nodata. Earth curvature lowers terrain and target by coeff * d^2 / (2 R) at horizontal distance d from
-// the observer. Throws GridError when the observer is not over the grid's surface.
+// nodata (or with `values`, the angle at which a visible target is seen, or the height a target needs). Earth
+// curvature lowers terrain and target by coeff * d^2 / (2 R) at horizontal distance d from the observer.
+// Beyond maxDistanceM a vertex is hidden (0), or NaN for angles and heights. The height is exact: D s + z_eye -
+// h(target), with s the horizon's tangent from the eye towards the target within its distance D
+// (horizonTangentFrom), at least 0. Throws GridError when the observer is not over the grid's surface.
 MapRaster viewshed(const HeightGrid& grid, const ViewshedSettings& settings);
 
 // Settings of the top-down shaded relief.

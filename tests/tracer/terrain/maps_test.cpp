@@ -103,6 +103,91 @@ TEST_CASE("Viewshed: a wall hides exactly what lies behind it, and flat ground i
     CHECK_THROWS_AS(viewshed(flat, off), GridError);
 }
 
+TEST_CASE("Viewshed heights and angles: a ridge asks targets behind it for the height similar triangles give",
+          "[tracer][maps]") {
+    // Flat ground at 0 m with an east-west ridge: vertex row 10 at 100 m (flanks over one cell), cells of 10 m.
+    // The eye 1.7 m above vertex (30, 40). A target at row j < 10 lies D metres away; the sight line crosses the
+    // crest at the share (40 - 10) / (40 - j) of D, so a target there needs (100 - 1.7) (40 - j) / 30 + 1.7 m.
+    const int64_t w = 61, h = 81;
+    std::vector<float> z(size_t(w * h), 0.0f);
+    for (int64_t i = 0; i < w; ++i) z[size_t(10 * w + i)] = 100.0f;
+    for (CellMethod method : {CellMethod::Bilinear, CellMethod::Triangles}) {
+        const HeightGrid g(w, h, 10.0, 10.0, z);
+        ViewshedSettings s;
+        s.observerXM = 300.0;
+        s.observerYM = 400.0;
+        s.observerHeightM = 1.7;
+        s.curvatureCoeff = 0.0;
+        s.method = method;
+        s.values = ViewshedValues::Height;
+        const MapRaster need = viewshed(g, s);
+        s.values = ViewshedValues::Angle;
+        const MapRaster angle = viewshed(g, s);
+        for (int64_t j = 0; j < h; ++j)
+            for (int64_t i = 0; i < w; i += 7) {
+                INFO(cellMethodName(method) << " vertex " << i << ", " << j);
+                if (j < 9) {
+                    CHECK(need.at(i, j) == Approx((100.0 - 1.7) * double(40 - j) / 30.0 + 1.7).epsilon(1e-6));
+                    CHECK(std::isnan(angle.at(i, j)));
+                } else if (j > 10) {
+                    // In front of the ridge (and on its north flank, which faces the eye) the ground is seen.
+                    CHECK(need.at(i, j) == 0.0f);
+                    const double dx = double(i) * 10.0 - 300.0, dy = double(j) * 10.0 - 400.0;
+                    const double expected = std::atan2(double(z[size_t(j * w + i)]) - 1.7, std::hypot(dx, dy)) / kDeg;
+                    if (std::hypot(dx, dy) > 0.0) CHECK(angle.at(i, j) == Approx(expected).margin(1e-4));
+                }
+            }
+        // On the crest itself the ground is seen, up at 100 m.
+        CHECK(need.at(30, 10) == 0.0f);
+        CHECK(angle.at(30, 10) == Approx(std::atan2(98.3, 300.0) / kDeg).margin(1e-4));
+        // Beyond --max-distance: no value.
+        s.values = ViewshedValues::Height;
+        s.maxDistanceM = 250.0;
+        const MapRaster near = viewshed(g, s);
+        CHECK(std::isnan(near.at(30, 5)));
+        CHECK(near.at(30, 20) == 0.0f);
+    }
+}
+
+TEST_CASE("Viewshed: the height a target needs agrees with the sight lines at every vertex of real DEMs",
+          "[tracer][maps]") {
+    // Two independent computations: the occlusion walk of each sight line to a target 0 and 5 m up, and the
+    // horizon walk from the eye that gives the height needed. They must agree wherever that height is not within
+    // a centimetre above the target's (where the sight line grazes the terrain and either verdict is right). The
+    // ground that is seen needs 0 exactly: the walk's supremum includes the target itself.
+    for (const char* name : {"landfire-storm-lake-mt-utm12n-int16-small-nodata.tif",
+                             "usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif"}) {
+        const LoadedDem dem = loadDem(std::string(TERRACAST_SOURCE_DIR) + "/data-samples/" + name);
+        const HeightGrid& g = dem.grid;
+        ViewshedSettings s;
+        s.observerXM = 0.37 * g.extentXM();
+        s.observerYM = 0.61 * g.extentYM();
+        s.observerHeightM = 10.0;
+        s.values = ViewshedValues::Height;
+        const MapRaster need = viewshed(g, s);
+        for (double targetM : {0.0, 5.0}) {
+            s.values = ViewshedValues::Visible;
+            s.targetHeightM = targetM;
+            const MapRaster seen = viewshed(g, s);
+            int64_t compared = 0, disagree = 0, hidden = 0;
+            for (size_t v = 0; v < seen.values.size(); ++v) {
+                if (std::isnan(seen.values[v])) {
+                    CHECK(std::isnan(need.values[v]));
+                    continue;
+                }
+                if (need.values[v] > 0.0f && std::abs(double(need.values[v]) - targetM) < 0.01) continue;
+                ++compared;
+                hidden += seen.values[v] == 0.0f;
+                disagree += (seen.values[v] == 1.0f) != (need.values[v] <= targetM);
+            }
+            INFO(name << " target " << targetM << " m: " << compared << " compared, " << hidden << " hidden");
+            CHECK(disagree == 0);
+            CHECK(hidden > 1000);
+            CHECK(compared - hidden > 1000);
+        }
+    }
+}
+
 TEST_CASE("Map view without shadows or sky equals Lambert shading of the analytic normals", "[tracer][maps]") {
     const LoadedDem dem = loadDem(std::string(TERRACAST_SOURCE_DIR) +
                                   "/data-samples/landfire-storm-lake-mt-utm12n-int16-small-nodata.tif");
