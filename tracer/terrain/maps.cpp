@@ -385,7 +385,9 @@ MapRaster viewshed(const HeightGrid& grid, const ViewshedSettings& s) {
         throw GridError("the observer at local (" + std::to_string(s.observerXM) + ", " + std::to_string(s.observerYM) +
                         ") m is not over the DEM's surface");
     const glm::dvec3 eye = ground->pointM + glm::dvec3(0.0, 0.0, s.observerHeightM);
-    const double endGap = 0.01 * std::min(g->cellSizeXM(), g->cellSizeYM());
+    const double cellM = std::min(g->cellSizeXM(), g->cellSizeYM());
+    const double endGap = 0.01 * cellM;
+    constexpr double kNearTargetCells = 8.0;
     const bool visibleOnly = s.values == ViewshedValues::Visible;
     return perVertex(*g, s.threads, s.progress, 1, [&](int64_t i, int64_t j) {
         if (!g->vertexValid(i, j)) return kNaN;
@@ -409,8 +411,12 @@ MapRaster viewshed(const HeightGrid& grid, const ViewshedSettings& s) {
             return std::isfinite(need) && need > rounding ? float(need) : 0.0f;
         }
         const double len = glm::length(d);
-        // The sight line stops just short of the target, so a target on the surface does not hide itself.
-        const bool seen = len <= endGap || !occluded(*g, Ray{eye, d}, {0.0, 1.0 - endGap / len}, s.method);
+        // The sight line stops just short of the target, so a target on the surface does not hide itself. The
+        // last few cells before the target are asked first: a target hidden by the ground around it (the common
+        // case far from the eye) is found there without walking the whole line.
+        const double end = 1.0 - endGap / len, nearTarget = std::max(0.0, end - kNearTargetCells * cellM / len);
+        const bool seen = len <= endGap || (!occluded(*g, Ray{eye, d}, {nearTarget, end}, s.method) &&
+                                            (nearTarget == 0.0 || !occluded(*g, Ray{eye, d}, {0.0, nearTarget}, s.method)));
         if (visibleOnly) return seen ? 1.0f : 0.0f;
         return seen ? float(degrees(std::atan2(d.z, horizontal))) : kNaN;
     });
