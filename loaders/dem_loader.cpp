@@ -11,10 +11,10 @@
 #include "tracer/core/resources.h"
 #include "tracer/core/text.h"
 #include "loaders/dem_loader.h"
+#include "loaders/image_codec.h"
 
 #include "tracer/core/errors.h"
 
-#include <OpenImageIO/imageio.h>
 #include <cpl_error.h>
 #include <cpl_vsi.h>
 #include <fmt/format.h>
@@ -400,11 +400,12 @@ void checkPngIsComplete(const std::string& path) {
 
 // Channel 0 of an open image as raw stored integers, in image row order (row 0 at the top).
 template <typename Sample>
-std::vector<Sample> readChannel0(const std::string& path, OIIO::ImageInput& input, OIIO::TypeDesc type) {
-    const OIIO::ImageSpec& spec = input.spec();
+std::vector<Sample> readChannel0(const std::string& path, void* input, const image_codec::ImageHeader& spec,
+                                 image_codec::PixelType type) {
     std::vector<Sample> samples(static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height));
-    if (!input.read_image(0, 0, 0, 1, type, samples.data()))
-        throw InputError(path + ": cannot read pixels (" + firstLine(input.geterror()) + ")");
+    std::string error;
+    if (!image_codec::api().read(input, 1, type, samples.data(), error))
+        throw InputError(path + ": cannot read pixels (" + firstLine(error) + ")");
     return samples;
 }
 
@@ -418,13 +419,14 @@ LoadedDem loadWithImageInput(const std::string& path, const DemLoadOptions& opti
                                      options.imageHeightScale));
 
     checkPngIsComplete(path);
-    // libpng's own error lines are kept off stderr; OpenImageIO passes their text on through geterror().
+    // The codec module is loaded first: a failure to load it is no message of libpng's.
+    const image_codec::Api& codec = image_codec::api();
+    // libpng's own error lines are kept off stderr; OpenImageIO passes their text on through its errors.
     CapturedStderr libpngMessages;
-    OIIO::ImageSpec config;
-    config.attribute("oiio:UnassociatedAlpha", 1);  // keep channel 0 as stored, not multiplied by alpha
-    auto input = OIIO::ImageInput::open(path, &config);
-    if (!input) throw InputError(path + ": cannot read PNG (" + firstLine(OIIO::geterror()) + ")");
-    const OIIO::ImageSpec& spec = input->spec();
+    image_codec::ImageHeader spec;  // channel 0 is read as stored, not multiplied by alpha
+    std::string error;
+    const image_codec::OpenImage input(codec.open(path, spec, error));
+    if (!input.get()) throw InputError(path + ": cannot read PNG (" + firstLine(error) + ")");
 
     LoadedDem dem;
     dem.path = path;
@@ -434,8 +436,8 @@ LoadedDem loadWithImageInput(const std::string& path, const DemLoadOptions& opti
     dem.sourceWidth = width;
     dem.sourceHeight = height;
     checkRasterSize(path, width, height, options.maxBytes);
-    if (spec.nchannels > 1)
-        dem.warnings.push_back(fmt::format("{}: {} channels, using channel 0 as height", path, spec.nchannels));
+    if (spec.channels > 1)
+        dem.warnings.push_back(fmt::format("{}: {} channels, using channel 0 as height", path, spec.channels));
 
     const auto vertexCount = static_cast<size_t>(width * height);
     std::vector<float> heightsM(vertexCount);
@@ -451,13 +453,14 @@ LoadedDem loadWithImageInput(const std::string& path, const DemLoadOptions& opti
             }
         }
     };
-    if (spec.format == OIIO::TypeDesc::UINT8)
-        store(readChannel0<uint8_t>(path, *input, OIIO::TypeDesc::UINT8));
-    else if (spec.format == OIIO::TypeDesc::UINT16)
-        store(readChannel0<uint16_t>(path, *input, OIIO::TypeDesc::UINT16));
+    using image_codec::PixelType;
+    if (spec.format == PixelType::UInt8)
+        store(readChannel0<uint8_t>(path, input.get(), spec, PixelType::UInt8));
+    else if (spec.format == PixelType::UInt16)
+        store(readChannel0<uint16_t>(path, input.get(), spec, PixelType::UInt16));
     else
         throw InputError(fmt::format("{}: {} samples, expected 8- or 16-bit unsigned integers", path,
-                                     spec.format.c_str()));
+                                     spec.formatName));
 
     dem.grid = makeGrid(path, width, height, options.imageCellSizeM, options.imageCellSizeM, std::move(heightsM), {},
                         options.imageHeightScale);

@@ -1,12 +1,11 @@
-// Writing and reading pictures through OpenImageIO. PNG holds 8-bit sRGB (transfer function of
-// IEC 61966-2-1); EXR holds linear half floats.
+// Writing and reading pictures through the image codec module (OpenImageIO). PNG holds 8-bit sRGB (transfer
+// function of IEC 61966-2-1); EXR holds linear half floats.
 #include "loaders/loader_support.h"
+#include "loaders/image_codec.h"
 #include "loaders/image_io.h"
 
 #include "tracer/core/errors.h"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <unistd.h>
@@ -115,21 +114,14 @@ void writeTextFile(const std::string& path, const std::string& text) { writeFile
 
 namespace {
 
-// The bytes of an image in the format `path`'s extension names, encoded by OpenImageIO in memory from `pixels`
-// (of type `type`, laid out as `spec` says). Throws naming `path` when the encoder fails.
-std::string encodeInMemory(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
-                           const void* pixels) {
-    auto fail = [&](const std::string& reason) {
-        return std::runtime_error(fmt::format("{}: cannot encode the image ({})", path, firstLine(reason)));
-    };
-    OIIO::Filesystem::IOVecOutput encoded;
-    auto output = OIIO::ImageOutput::create(path);
-    if (!output) throw fail(OIIO::geterror());
-    if (!output->set_ioproxy(&encoded) || !output->open(path, spec)) throw fail(output->geterror());
-    if (!output->write_image(type, pixels) || !output->close()) throw fail(output->geterror());
-    output.reset();
-    const std::vector<unsigned char>& bytes = encoded.buffer();
-    return std::string(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+// The bytes of an image in the format `path`'s extension names, encoded in memory from `pixels` (of type `given`,
+// `channels` per pixel, stored as `stored`). Throws naming `path` when the encoder fails.
+std::string encodeInMemory(const std::string& path, int width, int height, int channels, image_codec::PixelType stored,
+                           const std::string& colorSpace, image_codec::PixelType given, const void* pixels) {
+    std::string bytes, error;
+    if (!image_codec::api().encode(path, width, height, channels, stored, colorSpace, given, pixels, bytes, error))
+        throw std::runtime_error(fmt::format("{}: cannot encode the image ({})", path, firstLine(error)));
+    return bytes;
 }
 
 }  // namespace
@@ -146,16 +138,17 @@ void writeImage(const std::string& path, const RgbImage& image) {
 
     // The image is encoded in memory, then written through writeFileAtomically, which sees every system call's
     // error (a full disk included) and never leaves a partial file.
-    OIIO::ImageSpec spec(image.width, image.height, 3, png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::HALF);
-    spec.attribute("oiio:ColorSpace", png ? "sRGB" : "Linear");
+    using image_codec::PixelType;
     std::string bytes;
     if (png) {
         std::vector<uint8_t> levels(image.rgb.size());
         for (size_t k = 0; k < levels.size(); ++k)
             levels[k] = static_cast<uint8_t>(std::lround(srgbFromLinear(image.rgb[k]) * 255.0f));
-        bytes = encodeInMemory(path, spec, OIIO::TypeDesc::UINT8, levels.data());
+        bytes = encodeInMemory(path, image.width, image.height, 3, PixelType::UInt8, "sRGB", PixelType::UInt8,
+                               levels.data());
     } else {
-        bytes = encodeInMemory(path, spec, OIIO::TypeDesc::FLOAT, image.rgb.data());
+        bytes = encodeInMemory(path, image.width, image.height, 3, PixelType::Half, "Linear", PixelType::Float,
+                               image.rgb.data());
     }
     writeFileAtomically(path, bytes);
 }
@@ -164,8 +157,8 @@ std::string encodeGreyPng16(const std::string& name, int width, int height, cons
     if (width <= 0 || height <= 0 || samples.size() != size_t(width) * size_t(height))
         throw std::invalid_argument(fmt::format("encodeGreyPng16: {} x {} image holds {} samples", width, height,
                                                 samples.size()));
-    const OIIO::ImageSpec spec(width, height, 1, OIIO::TypeDesc::UINT16);
-    return encodeInMemory(name, spec, OIIO::TypeDesc::UINT16, samples.data());
+    using image_codec::PixelType;
+    return encodeInMemory(name, width, height, 1, PixelType::UInt16, "", PixelType::UInt16, samples.data());
 }
 
 RgbImage readImage(const std::string& path) {
@@ -174,23 +167,22 @@ RgbImage readImage(const std::string& path) {
     if (status.type() == fs::file_type::not_found) throw InputError(path + ": no such file");
     if (fs::is_directory(status)) throw InputError(path + ": is a directory");
 
-    OIIO::ImageSpec config;
-    config.attribute("oiio:UnassociatedAlpha", 1);  // colour as stored, not multiplied by alpha
-    auto input = OIIO::ImageInput::open(path, &config);
-    if (!input) throw InputError(path + ": cannot read image (" + firstLine(OIIO::geterror()) + ")");
-    const OIIO::ImageSpec& spec = input->spec();
-    const int channels = std::min(spec.nchannels, 3);
+    image_codec::ImageHeader spec;
+    std::string error;
+    const image_codec::OpenImage input(image_codec::api().open(path, spec, error));
+    if (!input.get()) throw InputError(path + ": cannot read image (" + firstLine(error) + ")");
+    const int channels = std::min(spec.channels, 3);
     if (spec.width <= 0 || spec.height <= 0 || channels < 1)
         throw InputError(fmt::format("{}: image is {} x {} with {} channels", path, spec.width, spec.height,
-                                     spec.nchannels));
+                                     spec.channels));
 
     const size_t pixels = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
     std::vector<float> stored(pixels * static_cast<size_t>(channels));
-    if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, stored.data()))
-        throw InputError(path + ": cannot read pixels (" + firstLine(input->geterror()) + ")");
+    if (!image_codec::api().read(input.get(), channels, image_codec::PixelType::Float, stored.data(), error))
+        throw InputError(path + ": cannot read pixels (" + firstLine(error) + ")");
 
     // Integer files (PNG) hold display-referred sRGB; float files (EXR) hold linear values.
-    const bool srgb = !spec.format.is_floating_point();
+    const bool srgb = !spec.floating;
     RgbImage image;
     image.width = spec.width;
     image.height = spec.height;

@@ -1,0 +1,70 @@
+// Start-up: the executable does not load OpenImageIO; the image codec module is opened only when a PNG or EXR is
+// read or written, and a missing module is one clear line.
+#include "support/run_command.h"
+
+#include <catch2/catch.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+using namespace terracast::testing;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string commandOutput(const std::string& command) {
+    std::string text;
+    if (FILE* pipe = ::popen(command.c_str(), "r")) {
+        char buffer[4096];
+        size_t n = 0;
+        while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) text.append(buffer, n);
+        ::pclose(pipe);
+    }
+    return text;
+}
+
+// Sets an environment variable for the commands run while it lives.
+struct ScopedEnv {
+    std::string name;
+    ScopedEnv(std::string n, const std::string& value) : name(std::move(n)) { ::setenv(name.c_str(), value.c_str(), 1); }
+    ~ScopedEnv() { ::unsetenv(name.c_str()); }
+};
+
+}  // namespace
+
+TEST_CASE("CLI: the executable does not link OpenImageIO and opens the image codec only for pictures", "[cli]") {
+    const std::string libraries = commandOutput(std::string("ldd '") + TERRACAST_CLI_PATH + "'");
+    REQUIRE(libraries.find("libgdal") != std::string::npos);  // ldd answered
+    CHECK(libraries.find("libOpenImageIO") == std::string::npos);
+
+    const fs::path dir = fs::temp_directory_path() / ("terracast-startup-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::string dem =
+        std::string(TERRACAST_SOURCE_DIR) + "/data-samples/landfire-storm-lake-mt-utm12n-int16-small-nodata.tif";
+    const std::string png = std::string(TERRACAST_SOURCE_DIR) + "/data-samples/puget-sound-usgs-1025x1025-16bit-heightmap.png";
+    const ScopedEnv missing("TERRACAST_IMAGE_CODEC", (dir / "no-such-codec.so").string());
+    // GeoTIFF in, GeoTIFF out: the module is never looked for.
+    const auto maps = runTerracast("horizon '" + dem + "' --azimuth 90 -o '" + (dir / "h.tif").string() + "'");
+    INFO(maps.err);
+    CHECK(maps.exitCode == 0);
+    // A PNG out, or a PNG height map in: one line naming the module, no output file.
+    for (const std::string& args : {"render '" + dem + "' --size 32x18 -o '" + (dir / "v.png").string() + "'",
+                                    "horizon '" + png + "' --azimuth 90 -o '" + (dir / "w.tif").string() + "'"}) {
+        const auto r = runTerracast(args);
+        INFO(args << "\n" << r.err);
+        CHECK(r.exitCode != 0);
+        CHECK(r.err.find("cannot load the image codec module " + (dir / "no-such-codec.so").string()) !=
+              std::string::npos);
+        size_t errors = 0;
+        for (size_t at = r.err.find("terracast: error"); at != std::string::npos; at = r.err.find("terracast: error", at + 1))
+            ++errors;
+        CHECK(errors == 1);
+        CHECK(r.err.find("TERRACAST_IMAGE_CODEC to its path\n") != std::string::npos);  // the line ends there
+    }
+    CHECK(!fs::exists(dir / "w.tif"));
+    CHECK(!fs::exists(dir / "v.png"));
+    fs::remove_all(dir);
+}
