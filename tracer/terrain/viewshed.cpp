@@ -1,0 +1,81 @@
+// The viewshed of one observer (maps.h): a sight line per vertex, decided by the occlusion walk, or the height a
+// target needs from the horizon walk out of the eye.
+#include "tracer/terrain/maps.h"
+#include "tracer/terrain/vertex_loop.h"
+
+#include "heightfield/horizon.h"
+#include "tracer/core/angles.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <vector>
+
+namespace terracast {
+
+using namespace vertex_maps;
+
+MapRaster viewshed(const HeightGrid& grid, const ViewshedSettings& s) {
+    // Earth curvature (less refraction) lowers everything by coeff * d^2 / (2 R) with distance d from the
+    // observer: trace in a copy of the grid with that drop applied.
+    const HeightGrid* g = &grid;
+    std::optional<HeightGrid> curved;
+    if (s.curvatureCoeff != 0.0) {
+        std::vector<float> z = grid.copyHeights();
+        std::vector<uint8_t> valid;
+        if (grid.hasNodata()) {
+            valid.resize(z.size());
+            for (int64_t j = 0; j < grid.height(); ++j)
+                for (int64_t i = 0; i < grid.width(); ++i) valid[size_t(j * grid.width() + i)] = grid.vertexValid(i, j);
+        }
+        for (int64_t j = 0; j < grid.height(); ++j)
+            for (int64_t i = 0; i < grid.width(); ++i) {
+                const double dx = double(i) * grid.cellSizeXM() - s.observerXM, dy = double(j) * grid.cellSizeYM() - s.observerYM;
+                z[size_t(j * grid.width() + i)] -= float(s.curvatureCoeff * (dx * dx + dy * dy) / (2.0 * s.earthRadiusM));
+            }
+        curved.emplace(grid.width(), grid.height(), grid.cellSizeXM(), grid.cellSizeYM(), std::move(z), std::move(valid));
+        g = &*curved;
+    }
+    const auto ground = surfacePointAt(*g, s.observerXM, s.observerYM, s.method);
+    if (!ground)
+        throw GridError("the observer at local (" + std::to_string(s.observerXM) + ", " + std::to_string(s.observerYM) +
+                        ") m is not over the DEM's surface");
+    const glm::dvec3 eye = ground->pointM + glm::dvec3(0.0, 0.0, s.observerHeightM);
+    const double cellM = std::min(g->cellSizeXM(), g->cellSizeYM());
+    const double endGap = 0.01 * cellM;
+    constexpr double kNearTargetCells = 8.0;
+    const bool visibleOnly = s.values == ViewshedValues::Visible;
+    return perVertex(*g, s.threads, s.progress, 1, [&](int64_t i, int64_t j) {
+        if (!g->vertexValid(i, j)) return kNaN;
+        const glm::dvec3 target{double(i) * g->cellSizeXM(), double(j) * g->cellSizeYM(),
+                                double(g->at(i, j)) + s.targetHeightM};
+        const glm::dvec3 d = target - eye;
+        const double horizontal = std::hypot(d.x, d.y);
+        if (s.maxDistanceM > 0.0 && horizontal > s.maxDistanceM) return visibleOnly ? 0.0f : kNaN;
+        if (s.values == ViewshedValues::Height) {
+            // The sight line to (target, h + t) clears every surface point p at distance r along the way when
+            // z_eye + r (h + t - z_eye) / D >= h(p), that is t >= D (h(p) - z_eye) / r + z_eye - h.
+            if (!(horizontal > 0.0)) return 0.0f;
+            HorizonSearch within;
+            within.maxDistanceM = horizontal;
+            const double tangent = horizonTangentFrom(*g, eye.x, eye.y, eye.z, d.x, d.y, s.method, within);
+            const double h = double(g->at(i, j));
+            const double need = horizontal * tangent + eye.z - h;
+            // The supremum includes the target itself, where the sum is zero up to its rounding: the ground that is
+            // seen needs nothing.
+            const double rounding = 1e-9 * (1.0 + std::abs(eye.z) + std::abs(h));
+            return std::isfinite(need) && need > rounding ? float(need) : 0.0f;
+        }
+        const double len = glm::length(d);
+        // The sight line stops just short of the target, so a target on the surface does not hide itself. The
+        // last few cells before the target are asked first: a target hidden by the ground around it (the common
+        // case far from the eye) is found there without walking the whole line.
+        const double end = 1.0 - endGap / len, nearTarget = std::max(0.0, end - kNearTargetCells * cellM / len);
+        const bool seen = len <= endGap || (!occluded(*g, Ray{eye, d}, {nearTarget, end}, s.method) &&
+                                            (nearTarget == 0.0 || !occluded(*g, Ray{eye, d}, {0.0, nearTarget}, s.method)));
+        if (visibleOnly) return seen ? 1.0f : 0.0f;
+        return seen ? float(degrees(std::atan2(d.z, horizontal))) : kNaN;
+    });
+}
+
+}  // namespace terracast
