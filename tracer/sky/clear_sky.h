@@ -45,6 +45,33 @@ struct Irradiance {
     double global() const { return beam + diffuse + reflected; }
 };
 
+// What the model needs of one sun position, the same for every surface point: computed once per time step.
+struct ClearSkySun {
+    double g0 = 0.0;                 // extraterrestrial irradiance, W/m^2
+    double elevationRad = 0.0;       // geometric
+    double azimuthRad = 0.0;
+    double sinElevation = 0.0;
+    double seaLevelAirMass = 0.0;    // relativeAirMass(elevation, 0)
+    double diffuseHorizontal = 0.0;  // the sky's diffuse light on the horizontal
+};
+ClearSkySun clearSkySun(const ClearSky& sky, double g0, double elevationRad, double azimuthRad);
+
+// What the model needs of one surface point, the same for every sun position.
+struct ClearSkySurface {
+    double slopeRad = 0.0;
+    double aspectRad = 0.0;
+    double pressureRatio = 1.0;      // exp(-height / 8434.5)
+    double sinSlope = 0.0;
+    double skyView = 1.0;            // (1 + cos slope) / 2, the slope's isotropic view of the sky
+    double groundView = 0.0;         // (1 - cos slope) / 2, its view of the ground in front
+    double fg = 0.0;                 // Muneer's horizon-brightening term of the slope
+};
+ClearSkySurface clearSkySurface(double slopeRad, double aspectRad, double heightM);
+
+// The irradiance for a precomputed sun and surface (the same as below, without recomputing either).
+Irradiance clearSkyIrradiance(const ClearSky& sky, const ClearSkySun& sun, const ClearSkySurface& surface,
+                              double cosIncidence, bool shadowed);
+
 // Clear-sky irradiance on a surface for the extraterrestrial irradiance `g0` (extraterrestrialIrradiance). Zero
 // with the sun at or below the horizontal. The beam is zero where the surface faces away from the sun or the
 // terrain shadows it; the sky's diffuse light then follows Muneer's model for shaded surfaces, and the ground

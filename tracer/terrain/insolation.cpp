@@ -16,14 +16,16 @@ MapRaster insolationMap(const HeightGrid& grid, const InsolationSettings& s) {
         throw GridError("insolation needs a surface through the vertices (bilinear or triangles), not nearest");
     // Only the steps with the sun up matter; their directions and model inputs are the same for every vertex.
     struct Step {
-        SunStep sun;
+        ClearSkySun model;  // the clear-sky model's share of the step, computed once
+        double hours;
         glm::dvec3 toSun;   // unit, apparent
         double tangent;     // the apparent elevation's slope, for the shadow walk
     };
     std::vector<Step> steps;
     for (const SunStep& sun : s.steps) {
         if (!(sun.elevationRad > 0.0) || !(sun.hours > 0.0)) continue;
-        steps.push_back({sun, directionFromRadians(sun.azimuthRad, sun.apparentElevationRad),
+        steps.push_back({clearSkySun(s.sky, sun.extraterrestrial, sun.elevationRad, sun.azimuthRad), sun.hours,
+                         directionFromRadians(sun.azimuthRad, sun.apparentElevationRad),
                          std::tan(sun.apparentElevationRad)});
     }
     const int64_t walksPerVertex = int64_t(steps.size());
@@ -31,24 +33,21 @@ MapRaster insolationMap(const HeightGrid& grid, const InsolationSettings& s) {
                           [&](int64_t i, int64_t j, float* out) {
         if (!vertexOnSurface(grid, i, j)) return;
         const glm::dvec3 n = vertexNormal(grid, i, j);
-        SunOnSurface at;
-        at.slopeRad = std::acos(std::clamp(n.z, -1.0, 1.0));
-        at.aspectRad = std::atan2(n.x, n.y);  // the way the surface faces, clockwise from north
-        at.heightM = grid.at(i, j);
+        // The way the surface faces (downhill), clockwise from north.
+        const ClearSkySurface surface =
+            clearSkySurface(std::acos(std::clamp(n.z, -1.0, 1.0)), std::atan2(n.x, n.y), grid.at(i, j));
         double beam = 0.0, diffuse = 0.0, reflected = 0.0, sunshine = 0.0;
         for (const Step& step : steps) {
-            at.elevationRad = step.sun.elevationRad;
-            at.azimuthRad = step.sun.azimuthRad;
-            at.cosIncidence = glm::dot(n, step.toSun);
+            const double cosIncidence = glm::dot(n, step.toSun);
             // The walk only where the surface faces the sun: facing away, the beam is lost anyway and the model
             // treats the two alike.
-            at.shadowed = at.cosIncidence > 0.0 &&
-                          horizonAbove(grid, i, j, step.toSun.x, step.toSun.y, step.tangent, s.method, s.search);
-            const Irradiance e = clearSkyIrradiance(s.sky, step.sun.extraterrestrial, at);
-            beam += e.beam * step.sun.hours;
-            diffuse += e.diffuse * step.sun.hours;
-            reflected += e.reflected * step.sun.hours;
-            if (e.beam > 0.0) sunshine += step.sun.hours;
+            const bool shadowed =
+                cosIncidence > 0.0 && horizonAbove(grid, i, j, step.toSun.x, step.toSun.y, step.tangent, s.method, s.search);
+            const Irradiance e = clearSkyIrradiance(s.sky, step.model, surface, cosIncidence, shadowed);
+            beam += e.beam * step.hours;
+            diffuse += e.diffuse * step.hours;
+            reflected += e.reflected * step.hours;
+            if (e.beam > 0.0) sunshine += step.hours;
         }
         out[kBeamBand] = float(beam);
         out[kDiffuseBand] = float(diffuse);
