@@ -38,27 +38,63 @@ void lonLatToSource(const GeoReference& geo, double lonDeg, double latDeg, doubl
 
 void gridCentreLonLat(const GeoReference& geo, int64_t width, int64_t height, const std::string& what, double& lonDeg,
                       double& latDeg) {
+    GridLonLat(geo, what).lonLat(0.5 * double(width - 1), 0.5 * double(height - 1), lonDeg, latDeg);
+}
+
+struct GridLonLat::Transforms {
+    std::unique_ptr<OGRCoordinateTransformation> toLonLat, fromLonLat;
+};
+
+GridLonLat::GridLonLat(const GeoReference& geo, std::string what) : geo_(geo), what_(std::move(what)), t_(nullptr) {
     if (!geo.georeferenced || geo.crsWkt.empty())
-        throw InputError(what + ": has no CRS to tell where on the Earth it lies (expected a georeferenced DEM)");
-    // Vertex (0, 0) is the south-west sample; columns run east and rows (after the flip) north.
-    double x = geo.originX + 0.5 * double(width - 1) * std::abs(geo.geoTransform[1]);
-    double y = geo.originY + 0.5 * double(height - 1) * std::abs(geo.geoTransform[5]);
+        throw InputError(what_ + ": has no CRS to tell where on the Earth it lies (expected a georeferenced DEM)");
     OGRSpatialReference source, wgs84;
     CPLPushErrorHandler(CPLQuietErrorHandler);
     const bool ok = source.importFromWkt(geo.crsWkt.c_str()) == OGRERR_NONE;
     CPLPopErrorHandler();
-    if (!ok) throw InputError(what + ": cannot read its CRS");
+    if (!ok) throw InputError(what_ + ": cannot read its CRS");
     source.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
     wgs84.SetWellKnownGeogCS("WGS84");
     wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    auto t = std::make_unique<Transforms>();
     CPLPushErrorHandler(CPLQuietErrorHandler);
-    std::unique_ptr<OGRCoordinateTransformation> t(OGRCreateCoordinateTransformation(&source, &wgs84));
-    const bool done = t && t->Transform(1, &x, &y);
+    t->toLonLat.reset(OGRCreateCoordinateTransformation(&source, &wgs84));
+    t->fromLonLat.reset(OGRCreateCoordinateTransformation(&wgs84, &source));
+    CPLPopErrorHandler();
+    if (!t->toLonLat || !t->fromLonLat) throw InputError(what_ + ": cannot transform its CRS to longitude and latitude");
+    t_ = t.release();
+}
+
+GridLonLat::~GridLonLat() { delete t_; }
+
+void GridLonLat::lonLat(double col, double row, double& lonDeg, double& latDeg) const {
+    // Vertex (0, 0) is the south-west sample; columns run east and rows (after the flip) north.
+    double x = geo_.originX + col * std::abs(geo_.geoTransform[1]);
+    double y = geo_.originY + row * std::abs(geo_.geoTransform[5]);
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+    const bool done = t_->toLonLat->Transform(1, &x, &y);
     CPLPopErrorHandler();
     if (!done || !std::isfinite(x) || !std::isfinite(y) || std::abs(y) > 90.0)
-        throw InputError(what + ": cannot convert its centre to longitude and latitude");
+        throw InputError(fmt::format("{}: cannot convert its sample {}, {} to longitude and latitude", what_, col, row));
     lonDeg = x;
     latDeg = y;
+}
+
+double GridLonLat::convergenceDeg(double col, double row) const {
+    double lon = 0.0, lat = 0.0;
+    lonLat(col, row, lon, lat);
+    // Two points a hundredth of a degree apart along the meridian, in the source CRS: true north's direction there.
+    const double d = lat > 0.0 ? -0.01 : 0.01;
+    double x[2] = {lon, lon}, y[2] = {lat, lat + d};
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+    const bool done = t_->fromLonLat->Transform(2, x, y);
+    CPLPopErrorHandler();
+    if (!done) throw InputError(fmt::format("{}: cannot find north at its sample {}, {}", what_, col, row));
+    const double sign = d > 0.0 ? 1.0 : -1.0;
+    // Local x and y run with the source's x and y (sourceToLocal), in proportion for a projected CRS; a geographic
+    // one has no x displacement along a meridian.
+    const double c = std::atan2(sign * (x[1] - x[0]), sign * (y[1] - y[0]));
+    return std::isfinite(c) ? degrees(c) : 0.0;
 }
 
 void sourceToLocal(const LoadedDem& dem, double x, double y, double& xM, double& yM) {
@@ -69,18 +105,7 @@ void sourceToLocal(const LoadedDem& dem, double x, double y, double& xM, double&
 }
 
 double gridConvergenceDeg(const GeoReference& geo, int64_t width, int64_t height, const std::string& what) {
-    double lon = 0.0, lat = 0.0;
-    gridCentreLonLat(geo, width, height, what, lon, lat);
-    // Two points a hundredth of a degree apart along the meridian, in the source CRS: true north's direction there.
-    const double d = lat > 0.0 ? -0.01 : 0.01;
-    double x0 = 0.0, y0 = 0.0, x1 = 0.0, y1 = 0.0;
-    lonLatToSource(geo, lon, lat, x0, y0);
-    lonLatToSource(geo, lon, lat + d, x1, y1);
-    const double sign = d > 0.0 ? 1.0 : -1.0;
-    // Local x and y run with the source's x and y (sourceToLocal), in proportion for a projected CRS; a geographic
-    // one has no x displacement along a meridian.
-    const double c = std::atan2(sign * (x1 - x0), sign * (y1 - y0));
-    return std::isfinite(c) ? degrees(c) : 0.0;
+    return GridLonLat(geo, what).convergenceDeg(0.5 * double(width - 1), 0.5 * double(height - 1));
 }
 
 std::string placeSunOverGrid(const UtcInstant& when, const GeoReference& geo, int64_t width, int64_t height,

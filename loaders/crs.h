@@ -28,6 +28,27 @@ double gridConvergenceDeg(const GeoReference& geo, int64_t width, int64_t height
 std::string placeSunOverGrid(const UtcInstant& when, const GeoReference& geo, int64_t width, int64_t height,
                              const std::string& what, double& azimuthDeg, double& elevationDeg);
 
+// Longitude, latitude and meridian convergence at any vertex position of a grid placed by `geo`, with the CRS
+// transformations made once (for many points). Throws InputError naming `what` when the grid has no CRS or a
+// point cannot be converted.
+class GridLonLat {
+public:
+    GridLonLat(const GeoReference& geo, std::string what);
+    ~GridLonLat();
+    GridLonLat(const GridLonLat&) = delete;
+    GridLonLat& operator=(const GridLonLat&) = delete;
+    // At vertex position (col, row), row 0 at the south (fractions allowed).
+    void lonLat(double col, double row, double& lonDeg, double& latDeg) const;
+    // The angle from the grid's north to true north there, clockwise, in degrees (as gridConvergenceDeg).
+    double convergenceDeg(double col, double row) const;
+
+private:
+    struct Transforms;
+    const GeoReference& geo_;
+    std::string what_;
+    Transforms* t_;
+};
+
 // Source-CRS coordinates to the grid's local metres (x east, y north, origin at the south-west sample).
 void sourceToLocal(const LoadedDem& dem, double x, double y, double& xM, double& yM);
 

@@ -19,13 +19,14 @@ namespace {
 const std::string kStHelens =
     std::string(TERRACAST_SOURCE_DIR) + "/data-samples/usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif";
 
-// A flat DEM at `heightM`, 11 x 11 samples of 0.001 degree centred on (lon, lat), in WGS 84.
-void writeFlatLonLat(const std::string& path, double lon, double lat, float heightM) {
+// A flat DEM at `heightM`, columns x rows samples of `stepDeg` degrees centred on (lon, lat), in WGS 84.
+void writeFlatLonLat(const std::string& path, double lon, double lat, float heightM, int columns = 11, int rows = 11,
+                     double stepDeg = 0.001) {
     GDALAllRegister();
     GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GTiff");
-    std::unique_ptr<GDALDataset> ds(driver->Create(path.c_str(), 11, 11, 1, GDT_Float32, nullptr));
+    std::unique_ptr<GDALDataset> ds(driver->Create(path.c_str(), columns, rows, 1, GDT_Float32, nullptr));
     REQUIRE(ds);
-    double gt[6] = {lon - 0.0055, 0.001, 0.0, lat + 0.0055, 0.0, -0.001};
+    double gt[6] = {lon - 0.5 * columns * stepDeg, stepDeg, 0.0, lat + 0.5 * rows * stepDeg, 0.0, -stepDeg};
     ds->SetGeoTransform(gt);
     OGRSpatialReference wgs;
     wgs.importFromEPSG(4326);
@@ -33,8 +34,9 @@ void writeFlatLonLat(const std::string& path, double lon, double lat, float heig
     wgs.exportToWkt(&wkt);
     ds->SetProjection(wkt);
     CPLFree(wkt);
-    std::vector<float> z(121, heightM);
-    REQUIRE(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 11, 11, z.data(), 11, 11, GDT_Float32, 0, 0) == CE_None);
+    std::vector<float> z(size_t(columns) * size_t(rows), heightM);
+    REQUIRE(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, columns, rows, z.data(), columns, rows, GDT_Float32, 0, 0) ==
+            CE_None);
 }
 
 // Band `band` (1-based) of a GeoTIFF at sample (x, y), row 0 at the north.
@@ -69,6 +71,26 @@ TEST_CASE("CLI: insolation of a flat DEM over a June day matches GRASS r.sun", "
     REQUIRE(w.exitCode == 0);
     const double w0 = std::acos(-std::tan(45.0 * M_PI / 180.0) * std::tan(-23.44 * M_PI / 180.0));
     CHECK(sample(out, 5, 5, 5) == Approx(2.0 * w0 * 12.0 / M_PI).margin(0.1));
+}
+
+TEST_CASE("CLI: insolation places the sun over each block of vertices, so a tall DEM's days lengthen northwards",
+          "[cli][maps]") {
+    // Flat ground from 40 to 50 N (201 rows of 0.05 degree) on 2026-06-21. Vertex rows 0-63 see the sun from their
+    // block's centre row 31.5 (41.575 N), rows 192-200 from row 196 (49.8 N): their days last 2 acos(-tan(lat)
+    // tan(decl)) / 15 degrees an hour, with the solstice's declination 23.44 degrees.
+    TempDir dir("insolation-cli");
+    const std::string dem = (dir.path() / "tall.tif").string(), out = (dir.path() / "sun.tif").string();
+    writeFlatLonLat(dem, 10.0, 45.0, 0.0f, 11, 201, 0.05);
+    const auto r = runTerracast("insolation '" + dem + "' --date 2026-06-21 --step 3m -o '" + out + "'");
+    INFO(r.err);
+    REQUIRE(r.exitCode == 0);
+    const auto dayLength = [](double latDeg) {
+        return 2.0 * std::acos(-std::tan(latDeg * M_PI / 180.0) * std::tan(23.44 * M_PI / 180.0)) * 12.0 / M_PI;
+    };
+    // Samples are read with row 0 at the north: vertex row j is sample row 200 - j.
+    CHECK(sample(out, 5, 5, 200 - 10) == Approx(dayLength(40.0 + 31.5 * 0.05)).margin(0.1));
+    CHECK(sample(out, 5, 5, 200 - 196) == Approx(dayLength(40.0 + 196 * 0.05)).margin(0.1));
+    CHECK(sample(out, 5, 5, 200 - 196) - sample(out, 5, 5, 200 - 10) > 1.0);
 }
 
 TEST_CASE("CLI: insolation writes five labelled bands and --day-step weighs each day computed", "[cli][maps]") {

@@ -21,17 +21,37 @@ MapRaster insolationMap(const HeightGrid& grid, const InsolationSettings& s) {
         glm::dvec3 toSun;   // unit, apparent
         double tangent;     // the apparent elevation's slope, for the shadow walk
     };
-    std::vector<Step> steps;
-    for (const SunStep& sun : s.steps) {
-        if (!(sun.elevationRad > 0.0) || !(sun.hours > 0.0)) continue;
-        steps.push_back({clearSkySun(s.sky, sun.extraterrestrial, sun.elevationRad, sun.azimuthRad), sun.hours,
-                         directionFromRadians(sun.azimuthRad, sun.apparentElevationRad),
-                         std::tan(sun.apparentElevationRad)});
-    }
-    const int64_t walksPerVertex = int64_t(steps.size());
+    const auto prepare = [&](const std::vector<SunStep>& suns) {
+        std::vector<Step> steps;
+        for (const SunStep& sun : suns) {
+            if (!(sun.elevationRad > 0.0) || !(sun.hours > 0.0)) continue;
+            steps.push_back({clearSkySun(s.sky, sun.extraterrestrial, sun.elevationRad, sun.azimuthRad), sun.hours,
+                             directionFromRadians(sun.azimuthRad, sun.apparentElevationRad),
+                             std::tan(sun.apparentElevationRad)});
+        }
+        return steps;
+    };
+    // One list of steps for all vertices, or one per block of vertices (made here, before the parallel loop).
+    constexpr int64_t B = InsolationSettings::kSunBlock;
+    const int64_t blocksX = s.stepsAt ? (grid.width() + B - 1) / B : 1, blocksY = s.stepsAt ? (grid.height() + B - 1) / B : 1;
+    std::vector<std::vector<Step>> blocks;
+    size_t mostSteps = 0;
+    for (int64_t bj = 0; bj < blocksY; ++bj)
+        for (int64_t bi = 0; bi < blocksX; ++bi) {
+            if (!s.stepsAt) {
+                blocks.push_back(prepare(s.steps));
+            } else {
+                const double col = 0.5 * double(bi * B + std::min(grid.width(), (bi + 1) * B) - 1);
+                const double row = 0.5 * double(bj * B + std::min(grid.height(), (bj + 1) * B) - 1);
+                blocks.push_back(prepare(s.stepsAt(col, row)));
+            }
+            mostSteps = std::max(mostSteps, blocks.back().size());
+        }
+    const int64_t walksPerVertex = int64_t(mostSteps);
     return perVertexBands(grid, kInsolationBands, s.threads, s.progress, walksPerVertex,
                           [&](int64_t i, int64_t j, float* out) {
         if (!vertexOnSurface(grid, i, j)) return;
+        const std::vector<Step>& steps = s.stepsAt ? blocks[size_t((j / B) * blocksX + i / B)] : blocks.front();
         const glm::dvec3 n = vertexNormal(grid, i, j);
         // The way the surface faces (downhill), clockwise from north.
         const ClearSkySurface surface =

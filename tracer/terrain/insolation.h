@@ -10,6 +10,7 @@
 
 #include <glm/glm.hpp>
 
+#include <functional>
 #include <vector>
 
 namespace terracast {
@@ -24,7 +25,12 @@ struct SunStep {
 };
 
 struct InsolationSettings {
-    std::vector<SunStep> steps;
+    std::vector<SunStep> steps;         // the sun's positions for every vertex, unless stepsAt is set
+    // When set: the sun's positions for each block of kSunBlock x kSunBlock vertices, as seen from the block's
+    // centre (a vertex position, row 0 at the south), so that a large DEM's vertices see the sun where it stands
+    // over their part of the Earth.
+    std::function<std::vector<SunStep>(double col, double row)> stepsAt;
+    static constexpr int64_t kSunBlock = 64;
     ClearSky sky;
     HorizonSearch search;               // radius and curvature of the shadow walks
     CellMethod method = CellMethod::Bilinear;

@@ -338,44 +338,58 @@ void writeInsolationMap(const InsolationMapOptions& o, const RunListener& listen
     s.sky.linkeTurbidity = o.linkeTurbidity;
     s.sky.albedo = o.albedo;
     const LoadedDem dem = loadDemSource(o.dem, listener);
-    const std::string what = o.dem.path + ": insolation";
-    double lon = 0.0, lat = 0.0;
-    gridCentreLonLat(dem.geo, dem.grid.width(), dem.grid.height(), what, lon, lat);
-    const double convergence = gridConvergenceDeg(dem.geo, dem.grid.width(), dem.grid.height(), what);
-    // Each computed day starts at local mean solar midnight at the DEM's centre; its steps sample the middle of
-    // each interval (the last one shorter when the step does not divide the day) and stand for dayStep days, or
-    // for the days left at the end of the span.
-    int64_t up = 0;
-    for (int64_t day = o.dates.firstDay; day <= o.dates.lastDay; day += o.dayStep) {
-        const double weight = double(std::min<int64_t>(o.dayStep, o.dates.lastDay - day + 1));
-        const CivilDate date = civilFromDays(day);
-        const double g0 = extraterrestrialIrradiance(double(day - daysFromCivil(date.year, 1, 1) + 1), s.sky.solarConstant);
-        const double midnight = double(day) * 86400.0 - lon / 15.0 * 3600.0;
-        for (int64_t k = 0; k < perDay; ++k) {
-            const double a = double(k * o.stepSeconds), b = std::min(86400.0, double((k + 1) * o.stepSeconds));
-            const double t = midnight + 0.5 * (a + b);
-            const double whole = std::floor(t);
-            std::optional<UtcInstant> when = instantFromUnixSeconds(int64_t(whole));
-            if (!when) throw InputError("insolation --date: expected days within the years 0001 to 9999");
-            when->second += t - whole;
-            const SolarPosition p = solarPosition(*when, lat, lon);
-            SunStep step;
-            step.azimuthRad = radians(p.azimuthDeg + convergence);
-            step.elevationRad = radians(p.elevationDeg);
-            step.apparentElevationRad = radians(p.apparentElevationDeg);
-            step.extraterrestrial = g0;
-            step.hours = (b - a) / 3600.0 * weight;
-            up += p.elevationDeg > 0.0;
-            s.steps.push_back(step);
+    const GridLonLat places(dem.geo, o.dem.path + ": insolation");
+    // The sun's positions seen from vertex position (col, row): each computed day starts at local mean solar
+    // midnight there; its steps sample the middle of each interval (the last one shorter when the step does not
+    // divide the day) and stand for dayStep days, or for the days left at the end of the span.
+    const auto sunSteps = [&](double col, double row, int64_t* up) {
+        double lon = 0.0, lat = 0.0;
+        places.lonLat(col, row, lon, lat);
+        const double convergence = places.convergenceDeg(col, row);
+        std::vector<SunStep> steps;
+        for (int64_t day = o.dates.firstDay; day <= o.dates.lastDay; day += o.dayStep) {
+            const double weight = double(std::min<int64_t>(o.dayStep, o.dates.lastDay - day + 1));
+            const CivilDate date = civilFromDays(day);
+            const double g0 =
+                extraterrestrialIrradiance(double(day - daysFromCivil(date.year, 1, 1) + 1), s.sky.solarConstant);
+            const double midnight = double(day) * 86400.0 - lon / 15.0 * 3600.0;
+            for (int64_t k = 0; k < perDay; ++k) {
+                const double a = double(k * o.stepSeconds), b = std::min(86400.0, double((k + 1) * o.stepSeconds));
+                const double t = midnight + 0.5 * (a + b);
+                const double whole = std::floor(t);
+                std::optional<UtcInstant> when = instantFromUnixSeconds(int64_t(whole));
+                if (!when) throw InputError("insolation --date: expected days within the years 0001 to 9999");
+                when->second += t - whole;
+                const SolarPosition p = solarPosition(*when, lat, lon);
+                SunStep step;
+                step.azimuthRad = radians(p.azimuthDeg + convergence);
+                step.elevationRad = radians(p.elevationDeg);
+                step.apparentElevationRad = radians(p.apparentElevationDeg);
+                step.extraterrestrial = g0;
+                step.hours = (b - a) / 3600.0 * weight;
+                if (up) *up += p.elevationDeg > 0.0;
+                steps.push_back(step);
+            }
         }
-    }
+        return steps;
+    };
+    const double centreCol = 0.5 * double(dem.grid.width() - 1), centreRow = 0.5 * double(dem.grid.height() - 1);
+    int64_t up = 0;
+    const size_t positions = sunSteps(centreCol, centreRow, &up).size();
+    double lon = 0.0, lat = 0.0;
+    places.lonLat(centreCol, centreRow, lon, lat);
+    const double convergence = places.convergenceDeg(centreCol, centreRow);
+    s.stepsAt = [&](double col, double row) { return sunSteps(col, row, nullptr); };
     const CivilDate first = civilFromDays(o.dates.firstDay), last = civilFromDays(o.dates.lastDay);
     const std::string span = fmt::format("{:04}-{:02}-{:02}/{:04}-{:02}-{:02}", first.year, first.month, first.day,
                                          last.year, last.month, last.day);
+    const int64_t blocks = ((dem.grid.width() + InsolationSettings::kSunBlock - 1) / InsolationSettings::kSunBlock) *
+                           ((dem.grid.height() + InsolationSettings::kSunBlock - 1) / InsolationSettings::kSunBlock);
     listener.tell(fmt::format("insolation over {} ({} days, {} computed), {} sun positions ({} with the sun up) over "
-                              "{:.4f}, {:.4f} (lat, lon); grid north {:.2f} degrees from true north",
-                              span, o.dates.lastDay - o.dates.firstDay + 1, days, s.steps.size(), up, lat, lon,
-                              -convergence));
+                              "the centre, {:.4f}, {:.4f} (lat, lon; grid north {:.2f} degrees from true north), and "
+                              "over each of {} blocks of {} x {} vertices",
+                              span, o.dates.lastDay - o.dates.firstDay + 1, days, positions, up, lat, lon, -convergence,
+                              blocks, InsolationSettings::kSunBlock, InsolationSettings::kSunBlock));
     checkMemory(o.dem.path, o.dem.maxMemoryBytes, dem.grid,
                 4.0 * double(dem.grid.width()) * double(dem.grid.height()) * double(kInsolationBands),
                 "insolation bands");
@@ -394,7 +408,8 @@ void writeInsolationMap(const InsolationMapOptions& o, const RunListener& listen
                        {"TERRACAST_DAY_STEP", std::to_string(o.dayStep)},
                        {"TERRACAST_LINKE_TURBIDITY", number(o.linkeTurbidity)},
                        {"TERRACAST_ALBEDO", number(o.albedo)},
-                       {"TERRACAST_SUN_AT_LAT_LON", fmt::format("{:.6f},{:.6f}", lat, lon)},
+                       {"TERRACAST_SUN_PLACED", fmt::format("per block of {} x {} vertices, at its centre",
+                                                            InsolationSettings::kSunBlock, InsolationSettings::kSunBlock)},
                        {"TERRACAST_MAX_DISTANCE_M", number(o.maxDistanceM)},
                        {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
                        {"TERRACAST_METHOD", surfaceMethodName(o.method)}};

@@ -80,7 +80,7 @@ int64_t parseDurationSeconds(const std::string& text, const std::string& option)
 struct InsolationMapOptions {
     DemSource dem;
     std::string output;                // GeoTIFF on the DEM's grid
-    DateSpan dates;                    // local solar days at the DEM's centre
+    DateSpan dates;                    // local solar days (of each block of vertices)
     int64_t stepSeconds = 1800;        // time step within a day (r.sun's default half hour)
     int dayStep = 1;                   // every n-th day is computed and stands for the n days from it
     double linkeTurbidity = 3.0;
