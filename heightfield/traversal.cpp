@@ -43,6 +43,7 @@ static_assert(std::is_trivially_destructible_v<std::optional<HeightFieldHit>>);
 // the same bits (tested), and the faster one is used when the processor has it.
 namespace baseline {
 #include "heightfield/traversal_kernels.h"
+#include "heightfield/bundle_kernels.h"
 }  // namespace baseline
 
 #if TERRACAST_AVX2_KERNELS
@@ -50,6 +51,7 @@ namespace baseline {
 #pragma GCC target("avx2,bmi,bmi2,lzcnt,popcnt,f16c,movbe")
 namespace avx2 {
 #include "heightfield/traversal_kernels.h"
+#include "heightfield/bundle_kernels.h"
 }  // namespace avx2
 #pragma GCC pop_options
 #endif
