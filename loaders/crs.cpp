@@ -36,16 +36,11 @@ void lonLatToSource(const GeoReference& geo, double lonDeg, double latDeg, doubl
                          " into the DEM's CRS");
 }
 
-void gridCentreLonLat(const GeoReference& geo, int64_t width, int64_t height, const std::string& what, double& lonDeg,
-                      double& latDeg) {
-    GridLonLat(geo, what).lonLat(0.5 * double(width - 1), 0.5 * double(height - 1), lonDeg, latDeg);
-}
-
 struct GridLonLat::Transforms {
     std::unique_ptr<OGRCoordinateTransformation> toLonLat, fromLonLat;
 };
 
-GridLonLat::GridLonLat(const GeoReference& geo, std::string what) : geo_(geo), what_(std::move(what)), t_(nullptr) {
+GridLonLat::GridLonLat(const GeoReference& geo, std::string what) : geo_(geo), what_(std::move(what)) {
     if (!geo.georeferenced || geo.crsWkt.empty())
         throw InputError(what_ + ": has no CRS to tell where on the Earth it lies (expected a georeferenced DEM)");
     OGRSpatialReference source, wgs84;
@@ -62,10 +57,10 @@ GridLonLat::GridLonLat(const GeoReference& geo, std::string what) : geo_(geo), w
     t->fromLonLat.reset(OGRCreateCoordinateTransformation(&wgs84, &source));
     CPLPopErrorHandler();
     if (!t->toLonLat || !t->fromLonLat) throw InputError(what_ + ": cannot transform its CRS to longitude and latitude");
-    t_ = t.release();
+    t_ = std::move(t);
 }
 
-GridLonLat::~GridLonLat() { delete t_; }
+GridLonLat::~GridLonLat() = default;
 
 void GridLonLat::lonLat(double col, double row, double& lonDeg, double& latDeg) const {
     // Vertex (0, 0) is the south-west sample; columns run east and rows (after the flip) north.
@@ -104,21 +99,22 @@ void sourceToLocal(const LoadedDem& dem, double x, double y, double& xM, double&
     yM = (y - dem.geo.originY) / spy * dem.grid.cellSizeYM();
 }
 
-double gridConvergenceDeg(const GeoReference& geo, int64_t width, int64_t height, const std::string& what) {
-    return GridLonLat(geo, what).convergenceDeg(0.5 * double(width - 1), 0.5 * double(height - 1));
-}
-
-std::string placeSunOverGrid(const UtcInstant& when, const GeoReference& geo, int64_t width, int64_t height,
-                             const std::string& what, double& azimuthDeg, double& elevationDeg) {
+std::string placeSunOverGrid(const UtcInstant& when, const GridLonLat& places, int64_t width, int64_t height,
+                             double& azimuthDeg, double& elevationDeg) {
+    const double col = 0.5 * double(width - 1), row = 0.5 * double(height - 1);
     double lon = 0.0, lat = 0.0;
-    gridCentreLonLat(geo, width, height, what, lon, lat);
+    places.lonLat(col, row, lon, lat);
     const SolarPosition p = solarPosition(when, lat, lon);
-    const double convergence = gridConvergenceDeg(geo, width, height, what);
-    azimuthDeg = std::fmod(p.azimuthDeg + convergence + 360.0, 360.0);
+    azimuthDeg = std::fmod(p.azimuthDeg + places.convergenceDeg(col, row) + 360.0, 360.0);
     elevationDeg = p.apparentElevationDeg;
     return fmt::format("sun at {} over {:.4f}, {:.4f} (lat, lon): azimuth {:.2f} from true north ({:.2f} from grid "
                        "north), elevation {:.2f} degrees",
                        formatUtc(when), lat, lon, p.azimuthDeg, azimuthDeg, elevationDeg);
+}
+
+std::string placeSunOverGrid(const UtcInstant& when, const GeoReference& geo, int64_t width, int64_t height,
+                             const std::string& what, double& azimuthDeg, double& elevationDeg) {
+    return placeSunOverGrid(when, GridLonLat(geo, what), width, height, azimuthDeg, elevationDeg);
 }
 
 }  // namespace terracast

@@ -4,6 +4,7 @@
 #include "loaders/dem_loader.h"
 #include "tracer/sky/calendar.h"
 
+#include <memory>
 #include <string>
 
 namespace terracast {
@@ -11,16 +12,6 @@ namespace terracast {
 // Converts WGS84 (lon, lat) in degrees to the DEM's source CRS. Throws InputError when the DEM has no CRS
 // or the transformation fails.
 void lonLatToSource(const GeoReference& geo, double lonDeg, double latDeg, double& x, double& y);
-
-// WGS84 longitude and latitude (degrees) of the centre of a grid of `width` x `height` vertices placed by `geo`.
-// Throws InputError naming `what` when the grid has no CRS or the transformation fails.
-void gridCentreLonLat(const GeoReference& geo, int64_t width, int64_t height, const std::string& what, double& lonDeg,
-                      double& latDeg);
-
-// The meridian convergence at the centre of a grid placed by `geo`: the angle from the grid's north (its rows'
-// +y) to true north, clockwise, in degrees. An azimuth from true north plus this is the azimuth in the grid's
-// frame. Zero for geographic grids, whose local frame is east and north. Throws InputError as gridCentreLonLat.
-double gridConvergenceDeg(const GeoReference& geo, int64_t width, int64_t height, const std::string& what);
 
 // Where the sun stands at `when` over the centre of a grid of `width` x `height` vertices placed by `geo`, by
 // NOAA's equations: sets the azimuth (in the grid's frame: from true north plus the meridian convergence) and the
@@ -39,15 +30,21 @@ public:
     GridLonLat& operator=(const GridLonLat&) = delete;
     // At vertex position (col, row), row 0 at the south (fractions allowed).
     void lonLat(double col, double row, double& lonDeg, double& latDeg) const;
-    // The angle from the grid's north to true north there, clockwise, in degrees (as gridConvergenceDeg).
+    // The meridian convergence there: the angle from the grid's north (its rows' +y) to true north, clockwise, in
+    // degrees; an azimuth from true north plus this is the azimuth in the grid's frame. Zero for geographic grids,
+    // whose local frame is east and north.
     double convergenceDeg(double col, double row) const;
 
 private:
     struct Transforms;
     const GeoReference& geo_;
     std::string what_;
-    Transforms* t_;
+    std::unique_ptr<Transforms> t_;
 };
+
+// The same with the grid's CRS transformations made already (for many instants).
+std::string placeSunOverGrid(const UtcInstant& when, const GridLonLat& places, int64_t width, int64_t height,
+                             double& azimuthDeg, double& elevationDeg);
 
 // Source-CRS coordinates to the grid's local metres (x east, y north, origin at the south-west sample).
 void sourceToLocal(const LoadedDem& dem, double x, double y, double& xM, double& yM);

@@ -113,9 +113,10 @@ void writeShadowSeries(const ShadowMapOptions& o, const RunListener& listener) {
     RasterLabels labels;
     std::string times;
     int up = 0;
+    const GridLonLat places(dem.geo, o.dem.path + ": --sun-time");
     for (const UtcInstant& when : o.sunTimes) {
         double az = 0.0, el = 0.0;
-        placeSunOverGrid(when, dem.geo, dem.grid.width(), dem.grid.height(), o.dem.path + ": --sun-time", az, el);
+        placeSunOverGrid(when, places, dem.grid.width(), dem.grid.height(), az, el);
         suns.push_back({radians(az), radians(el)});
         up += el > 0.0;
         labels.bands.push_back(
