@@ -10,9 +10,25 @@
 
 #include <chrono>
 #include <cmath>
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 
 namespace terracast::cli {
+
+std::string oneLine(std::string_view text) {
+    std::string line;
+    line.reserve(text.size());
+    for (const char c : text) {
+        const auto u = static_cast<unsigned char>(c);
+        if (c == '\n') line += "\\n";
+        else if (c == '\r') line += "\\r";
+        else if (c == '\t') line += "\\t";
+        else if (u < 0x20 || u == 0x7F) line += fmt::format("\\x{:02x}", u);
+        else line += c;
+    }
+    return line;
+}
 
 int guarded(const std::function<void()>& job) {
     try {
@@ -22,16 +38,16 @@ int guarded(const std::function<void()>& job) {
         fmt::print(stderr, "terracast: interrupted; no output written\n");
         return 130;
     } catch (const InputError& e) {
-        fmt::print(stderr, "terracast: error: {}\n", e.what());
+        fmt::print(stderr, "terracast: error: {}\n", oneLine(e.what()));
         return 2;
     } catch (const GridError& e) {
-        fmt::print(stderr, "terracast: error: {}\n", e.what());
+        fmt::print(stderr, "terracast: error: {}\n", oneLine(e.what()));
         return 2;
     } catch (const std::bad_alloc&) {
         fmt::print(stderr, "terracast: error: out of memory\n");
         return 1;
     } catch (const std::exception& e) {
-        fmt::print(stderr, "terracast: error: {}\n", e.what());
+        fmt::print(stderr, "terracast: error: {}\n", oneLine(e.what()));
         return 1;
     }
 }
@@ -78,7 +94,7 @@ ConsoleListener::ConsoleListener(bool quiet) : progress_(std::make_unique<Progre
     };
     listener_.warning = [p](const std::string& line) {
         p->finish();
-        fmt::print(stderr, "terracast: warning: {}\n", line);
+        fmt::print(stderr, "terracast: warning: {}\n", oneLine(line));
     };
     if (!quiet)
         listener_.note = [p](const std::string& line) {
@@ -181,6 +197,68 @@ void parsePixelOption(const std::string& text, const char* option, int& x, int& 
     y = int(py);
 }
 
+namespace {
+
+// `text` as a number when all of it is one (nothing for text that is not), overflow giving infinity.
+std::optional<double> numberIn(const std::string& text) {
+    errno = 0;
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size()) return std::nullopt;
+    return v;
+}
+
+}  // namespace
+
+CLI::Validator finiteNumber() {
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            const auto v = numberIn(text);
+            if (v && !std::isfinite(*v)) return "expected a finite number, found '" + oneLine(text) + "'";
+            return {};  // anything else is the option's own parser's to refuse
+        },
+        "", "finite");
+}
+
+CLI::Validator positiveNumber() {
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            const auto v = numberIn(text);
+            if (!v || !std::isfinite(*v) || !(*v > 0.0))
+                return "expected a finite number above 0, found '" + oneLine(text) + "'";
+            return {};
+        },
+        "", "positive");
+}
+
+CLI::Validator nonNegativeInteger(int64_t max) {
+    return CLI::Validator(
+        [max](std::string& text) -> std::string {
+            const auto v = numberIn(text);
+            if (!v || !(*v >= 0.0) || *v != std::floor(*v) || *v > double(max))
+                return fmt::format("expected a whole number from 0 to {}, found '{}'", max, oneLine(text));
+            return {};
+        },
+        "", "non-negative");
+}
+
+CLI::Validator numberRange(double lo, double hi, const char* what) {
+    return CLI::Validator(
+        [lo, hi, what](std::string& text) -> std::string {
+            const auto v = numberIn(text);
+            if (!v || !(*v >= lo && *v <= hi))
+                return fmt::format("expected {} from {:g} to {:g}, found '{}'", what, lo, hi, oneLine(text));
+            return {};
+        },
+        "", "range");
+}
+
+void requireFiniteNumbers(CLI::App& app) {
+    for (CLI::Option* option : app.get_options())
+        if (option->get_type_name() == "FLOAT") option->check(finiteNumber());
+    for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) requireFiniteNumbers(*sub);
+}
+
 void addMaxMemoryOption(CLI::App& cmd, double& bytes, const std::string& help) {
     cmd.add_option_function<std::string>(
         "--max-memory",
@@ -199,10 +277,10 @@ void addDemOptions(CLI::App& cmd, DemSource& dem) {
     cmd.add_option("DEM", dem.path, "Elevation raster: GeoTIFF, SRTM .hgt, any GDAL raster, or a PNG height map")
         ->required();
     cmd.add_option("--cell-size", dem.imageCellSizeM, "PNG height maps: metres between samples (default 1)")
-        ->check(CLI::PositiveNumber);
+        ->check(positiveNumber());
     cmd.add_option("--height-scale", dem.imageHeightScale,
                    "PNG height maps: metres per stored unit, 0..255 or 0..65535 (default 1)")
-        ->check(CLI::PositiveNumber);
+        ->check(positiveNumber());
 }
 
 }  // namespace terracast::cli

@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -32,6 +33,9 @@ void addMapCommands(CLI::App& app, Commands& commands);
 void addMeasureCommands(CLI::App& app, Commands& commands);
 void addSceneCommand(CLI::App& app, Commands& commands);
 void addBenchCommand(CLI::App& app, Commands& commands);
+
+// `text` on one line: newlines, tabs and other control characters escaped (a file name may hold them).
+std::string oneLine(std::string_view text);
 
 // Runs a job: 0 when it returns, 2 with one line for bad input (InputError, GridError), 130 when interrupted,
 // 1 for any other failure.
@@ -71,6 +75,14 @@ std::optional<PinholeCamera> parseCameraOption(const std::string& text);  // emp
 UtcInstant parseSunTimeOption(const std::string& text);
 // X,Y pixel indices.
 void parsePixelOption(const std::string& text, const char* option, int& x, int& y);
+
+// Validators whose messages say what was expected and what was found.
+CLI::Validator finiteNumber();        // any finite number (no nan, inf, or overflow such as 1e999)
+CLI::Validator positiveNumber();      // a finite number above 0
+CLI::Validator nonNegativeInteger(int64_t max = 2147483647);  // a whole number from 0 to max
+CLI::Validator numberRange(double lo, double hi, const char* what);  // "expected WHAT from LO to HI"
+// Adds finiteNumber to every floating-point option of `app` and its subcommands.
+void requireFiniteNumbers(CLI::App& app);
 
 // --max-memory SIZE into `bytes`.
 void addMaxMemoryOption(CLI::App& cmd, double& bytes, const std::string& help);

@@ -9,11 +9,21 @@
 
 #include <csignal>
 
+#include <unistd.h>
+
 using namespace terracast;
 
 // SIGINT and SIGTERM ask the running command to stop between tiles; outputs are written only at the end
-// (through a temporary file), so nothing partial is left.
-extern "C" void onInterrupt(int) { cancelFlag().store(true); }
+// (through a temporary file), so nothing partial is left. Inside an ExitOnCancel scope (a read that may block in
+// a library, before anything is written) the process ends here and now.
+extern "C" void onInterrupt(int) {
+    cancelFlag().store(true);
+    if (exitOnCancelDepth().load() > 0) {
+        static const char message[] = "terracast: interrupted; no output written\n";
+        [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, message, sizeof message - 1);
+        ::_exit(130);
+    }
+}
 
 int main(int argc, char** argv) {
     cancelFlag().store(false);  // made before the handlers, so a signal never initialises it
@@ -30,6 +40,7 @@ int main(int argc, char** argv) {
     cli::addMapCommands(app, commands);
     cli::addMeasureCommands(app, commands);
     cli::addBenchCommand(app, commands);
+    cli::requireFiniteNumbers(app);
 
     try {
         app.parse(argc, argv);
@@ -40,7 +51,7 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        fmt::print(stderr, "terracast: error: {} (see terracast --help)\n", e.what());
+        fmt::print(stderr, "terracast: error: {} (see terracast --help)\n", cli::oneLine(e.what()));
         return 2;
     }
     for (const auto& command : commands)

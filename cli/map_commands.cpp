@@ -12,14 +12,15 @@ namespace {
 
 void addThreadsAndMethod(CLI::App& cmd, int& threads, std::string& method) {
     cmd.add_option("--method", method, "Direct cell method (default bilinear)");
-    cmd.add_option("--threads", threads, "Worker threads, 0 = all cores")->check(CLI::NonNegativeNumber);
+    cmd.add_option("--threads", threads, "Worker threads, 0 = all cores")->check(nonNegativeInteger());
 }
 
 void addSearchOptions(CLI::App& cmd, double& maxDistanceM, double& curvatureCoeff, const char* distanceHelp) {
-    cmd.add_option("--max-distance", maxDistanceM, distanceHelp);
+    cmd.add_option("--max-distance", maxDistanceM, distanceHelp)->check(numberRange(0.0, 1e8, "metres"));
     cmd.add_option("--curvature-coeff", curvatureCoeff,
                    "Earth curvature less refraction, as viewshed's (0.85714 for standard refraction; default 0: "
-                   "flat earth)");
+                   "flat earth)")
+        ->check(numberRange(-10.0, 10.0, "a coefficient"));
 }
 
 }  // namespace
@@ -157,13 +158,16 @@ void addMapCommands(CLI::App& app, Commands& commands) {
         cmd->add_option("--max-distance", v.maxDistanceM, "Targets farther than this (metres) are not seen (default 0: "
                                                            "no limit)");
         cmd->add_flag("--lonlat", v.lonLat, "The observer is WGS84 longitude,latitude");
-        cmd->add_option("--observer-height", v.observerHeightM, "Metres above the terrain (default 1.7)");
-        cmd->add_option("--target-height", v.targetHeightM, "Metres above the terrain (default 0)");
+        cmd->add_option("--observer-height", v.observerHeightM, "Metres above the terrain (default 1.7)")
+            ->check(numberRange(-1e6, 1e6, "metres"));
+        cmd->add_option("--target-height", v.targetHeightM, "Metres above the terrain (default 0)")
+            ->check(numberRange(-1e6, 1e6, "metres"));
         cmd->add_option("--values", t->values,
                         "visible (1/0, Byte), angle (degrees from the eye to each visible target, Float32) or height "
                         "(metres above the ground a target needs to be seen, Float32); default visible");
         cmd->add_option("--curvature-coeff", v.curvatureCoeff,
-                        "Earth curvature and refraction, as gdal_viewshed -cc (default 0.85714; 0 = flat earth)");
+                        "Earth curvature and refraction, as gdal_viewshed -cc (default 0.85714; 0 = flat earth)")
+            ->check(numberRange(-10.0, 10.0, "a coefficient"));
         addThreadsAndMethod(*cmd, v.threads, t->method);
         commands.push_back({cmd, [t] {
                                 return guarded([&] {

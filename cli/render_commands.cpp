@@ -45,7 +45,7 @@ void addRenderCommand(CLI::App& app, Commands& commands) {
                     "Surface method: bilinear, bilinear-double, triangles, nearest, reference, embree, embree-grid "
                     "(default bilinear)");
     cmd->add_option("--threads", render.threads, "Worker threads, 0 = all cores (default 0)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(nonNegativeInteger());
     cmd->add_flag("-q,--quiet", t->quiet, "No progress or summary on stderr");
     cmd->add_option("--view", t->view,
                     "perspective (default), or map: top-down on the DEM's grid, written as GeoTIFF (.tif) or PNG");

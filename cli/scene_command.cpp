@@ -6,6 +6,8 @@
 
 #include <fmt/core.h>
 
+#include <cstdint>
+
 namespace terracast::cli {
 
 void addSceneCommand(CLI::App& app, Commands& commands) {
@@ -23,8 +25,9 @@ void addSceneCommand(CLI::App& app, Commands& commands) {
     cmd->add_option("-o,--output", scene.output, "Output image .png or .exr (overrides render.output)");
     cmd->add_option("--size", t->size, "Image size WxH (overrides render.width and render.height)");
     cmd->add_option("--spp", scene.samples, "Samples per pixel (overrides render.samples)")->check(CLI::Range(1, 65536));
-    cmd->add_option("--threads", scene.threads, "Worker threads, 0 = all cores")->check(CLI::NonNegativeNumber);
-    cmd->add_option("--seed", scene.seed, "Random seed (overrides render.seed)")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--threads", scene.threads, "Worker threads, 0 = all cores")->check(nonNegativeInteger());
+    cmd->add_option("--seed", scene.seed, "Random seed (overrides render.seed)")
+        ->check(nonNegativeInteger(int64_t(1) << 53));
     cmd->add_option("--method", t->method, "Height-field method for every terrain (overrides the file)");
     cmd->add_option("--debug-pixel", t->debugPixel, "Print the ray tree of pixel X,Y (and render only with -o)");
     cmd->add_option("--sampler", t->sampler, "Sample pattern: regular, random, stratified, poisson, best-candidate");

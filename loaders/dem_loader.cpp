@@ -11,8 +11,10 @@
 #include "tracer/core/resources.h"
 #include "tracer/core/text.h"
 #include "loaders/dem_loader.h"
+#include "loaders/input_files.h"
 #include "loaders/image_codec.h"
 
+#include "tracer/core/cancel.h"
 #include "tracer/core/errors.h"
 
 #include <cpl_error.h>
@@ -55,17 +57,6 @@ constexpr double kUsSurveyFootM = 1200.0 / 3937.0;                   // US surve
 std::string toLower(std::string s) {
     std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return s;
-}
-
-// Rejects missing files, folders and empty files before a reader sees them, so the message says what is wrong.
-void checkIsFile(const std::string& path) {
-    if (path.starts_with("/vsi")) return;  // GDAL virtual file systems (/vsizip/, /vsicurl/, ...)
-    std::error_code ec;
-    const auto status = std::filesystem::status(path, ec);
-    if (status.type() == std::filesystem::file_type::not_found) throw InputError(path + ": no such file");
-    if (std::filesystem::is_directory(status)) throw InputError(path + ": is a directory");
-    if (std::filesystem::is_regular_file(status) && std::filesystem::file_size(path, ec) == 0 && !ec)
-        throw InputError(path + ": file is empty");
 }
 
 // Rejects rasters without a cell, and rasters too large to hold, before anything is allocated.
@@ -293,6 +284,9 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, c
     const Lattice lattice = georeference(path, *dataset, options, dem.geo, dem.warnings);
 
     GDALRasterBand* band = dataset->GetRasterBand(1);
+    if (GDALDataTypeIsComplex(band->GetRasterDataType()))
+        throw InputError(fmt::format("{}: band 1 holds complex numbers ({}), expected real heights", path,
+                                     GDALGetDataTypeName(band->GetRasterDataType())));
     checkBlockSize(path, *dataset, *band, options.maxBytes);
     const VerticalUnit unit = verticalUnit(path, band->GetUnitType() ? band->GetUnitType() : "");
     if (!unit.warning.empty()) dem.warnings.push_back(unit.warning);
@@ -470,7 +464,8 @@ LoadedDem loadWithImageInput(const std::string& path, const DemLoadOptions& opti
 }  // namespace
 
 LoadedDem loadDem(const std::string& path, const DemLoadOptions& options) {
-    checkIsFile(path);
+    checkInputFile(path, "a DEM");
+    const ExitOnCancel interruptible;  // GDAL may block (a network path); nothing is written yet
     // The one place where a format is chosen: PNG height maps through OpenImageIO, everything else through GDAL.
     if (lowerExtension(path) == ".png") return loadWithImageInput(path, options);
     return loadWithGdal(path, options);

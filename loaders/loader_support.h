@@ -4,6 +4,7 @@
 #include "tracer/core/errors.h"
 #include "tracer/core/text.h"
 
+#include <cpl_conv.h>
 #include <cpl_error.h>
 #include <fmt/format.h>
 #include <unistd.h>
@@ -81,10 +82,16 @@ private:
     std::string text_;
 };
 
-// Registers GDAL's drivers once per process.
+// Registers GDAL's drivers once per process, and bounds how long a network path may keep a read waiting
+// (GDAL's own default is to wait without end) unless the user has set GDAL's options.
 inline void registerGdalDrivers() {
     static std::once_flag once;
-    std::call_once(once, [] { GDALAllRegister(); });
+    std::call_once(once, [] {
+        if (CPLGetConfigOption("GDAL_HTTP_CONNECTTIMEOUT", nullptr) == nullptr)
+            CPLSetConfigOption("GDAL_HTTP_CONNECTTIMEOUT", "20");
+        if (CPLGetConfigOption("GDAL_HTTP_TIMEOUT", nullptr) == nullptr) CPLSetConfigOption("GDAL_HTTP_TIMEOUT", "60");
+        GDALAllRegister();
+    });
 }
 
 // Keeps GDAL from printing on this thread while it lives; failures reach the caller as exceptions instead.

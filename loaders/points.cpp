@@ -1,6 +1,8 @@
 #include "loaders/points.h"
+#include "loaders/input_files.h"
 
 #include "loaders/loader_support.h"
+#include "tracer/core/cancel.h"
 #include "tracer/core/errors.h"
 #include "tracer/core/text.h"
 
@@ -157,8 +159,9 @@ std::vector<SitePoint> readVector(const std::string& path, const GeoReference& g
 
 std::vector<SitePoint> readSitePoints(const std::string& path, const GeoReference& geo) {
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec) && !std::filesystem::is_directory(path, ec))
-        throw InputError(fmt::format("{}: no such point file", path));
+    // A folder may be a vector dataset (a shapefile's); anything else must be a regular file.
+    if (!std::filesystem::is_directory(path, ec)) checkInputFile(path, "a point file");
+    const ExitOnCancel interruptible;
     const std::string ext = lowerExtension(path);
     std::vector<SitePoint> points = ext == ".csv" || ext == ".txt" ? readText(path) : readVector(path, geo);
     if (points.empty()) throw InputError(fmt::format("{}: holds no point", path));

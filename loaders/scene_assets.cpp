@@ -1,7 +1,9 @@
 #include "loaders/scene_assets.h"
+#include "loaders/input_files.h"
 
 #include "loaders/crs.h"
 #include "loaders/loader_support.h"
+#include "tracer/core/cancel.h"
 
 #include <gdal_priv.h>
 #include <gdal_utils.h>
@@ -54,8 +56,8 @@ GDALDatasetUniquePtr warpOntoDem(const std::string& path, GDALDataset& source, c
 DrapeImage loadDrape(const std::string& path, const GeoReference& dem, int64_t width, int64_t height) {
     registerGdalDrivers();
     QuietGdalErrors quiet;
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
+    checkInputFile(path, "a drape image");
+    const ExitOnCancel interruptible;
     GDALDatasetUniquePtr dataset(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
     if (!dataset) throw InputError(path + ": not a raster GDAL can read");
     const int bands = dataset->GetRasterCount();

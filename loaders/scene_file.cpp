@@ -5,8 +5,10 @@
 // key or value, what was expected and what was found. docs/scene-format.md is the reference for the format.
 #include "loaders/scene_file.h"
 
+#include "loaders/input_files.h"
 #include "loaders/toml_reader.h"
 #include "tracer/core/errors.h"
+#include "tracer/core/text.h"
 #include "tracer/sky/calendar.h"
 #include "tracer/core/surface_method.h"
 #include "tracer/sampling/filters.h"
@@ -598,6 +600,11 @@ void forEachTable(const TomlFile& scene, const toml::table& root, std::string_vi
 SceneDescription parseSceneText(std::string_view text, const std::string& pathForMessages, const std::string& baseDir) {
     const TomlFile scene(pathForMessages, baseDir);
     toml::table root;
+    if (text.size() > size_t(kMaxSceneFileBytes))
+        scene.fail(SourceLocation{1, 1}, fmt::format("a scene file may hold at most {}, this text holds {}",
+                                                     humanBytes(double(kMaxSceneFileBytes)), humanBytes(double(text.size()))));
+    if (const auto deep = findExcessiveNesting(text, kMaxSceneNesting))
+        scene.fail(*deep, fmt::format("keys, tables and arrays nest more than {} levels deep here", kMaxSceneNesting));
     try {
         root = toml::parse(text, std::string_view(pathForMessages));
     } catch (const toml::parse_error& e) {
@@ -641,16 +648,8 @@ SceneDescription parseSceneText(std::string_view text, const std::string& pathFo
 }
 
 SceneDescription loadSceneFile(const std::string& path) {
-    std::error_code ec;
-    const auto status = std::filesystem::status(path, ec);
-    if (status.type() == std::filesystem::file_type::not_found) throw InputError(path + ": no such file");
-    if (status.type() == std::filesystem::file_type::directory) throw InputError(path + ": is a directory");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(fmt::format("{}: cannot be read ({})", path, std::strerror(errno)));
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (in.bad()) throw InputError(fmt::format("{}: read failed ({})", path, std::strerror(errno)));
-    return parseSceneText(text.str(), path, std::filesystem::path(path).parent_path().string());
+    const std::string text = readTextFile(path, "a scene file", kMaxSceneFileBytes);
+    return parseSceneText(text, path, std::filesystem::path(path).parent_path().string());
 }
 
 }  // namespace terracast

@@ -5,11 +5,16 @@
 
 #include "tracer/scene/scene_description.h"
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
 
 namespace terracast {
+
+// Bounds on what reaches the TOML parser: a scene file's size, and how deep its keys, tables and arrays nest.
+inline constexpr int64_t kMaxSceneFileBytes = int64_t(64) << 20;
+inline constexpr int kMaxSceneNesting = 64;
 
 // Reads and parses the scene file at `path`; relative paths inside it resolve against its folder. Throws
 // InputError for a missing, unreadable or invalid file.

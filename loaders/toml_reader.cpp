@@ -127,4 +127,73 @@ void refuseMisspeltKey(const TableReader& table, std::span<const KeyRule> rules,
     }
 }
 
+std::optional<SourceLocation> findExcessiveNesting(std::string_view text, int maxDepth) {
+    int line = 1, column = 0;
+    int brackets = 0;   // open [ and { outside strings
+    int keyParts = 1;   // parts of the dotted key (or number) being read
+    bool inKey = false; // the last thing read outside strings was a key character or a quoted key
+    size_t k = 0;
+    auto advance = [&](size_t n) {
+        for (size_t e = std::min(text.size(), k + n); k < e; ++k) {
+            if (text[k] == '\n') {
+                ++line;
+                column = 0;
+            } else if ((static_cast<unsigned char>(text[k]) & 0xC0) != 0x80) {
+                ++column;
+            }
+        }
+    };
+    auto tooDeep = [&] { return brackets + keyParts > maxDepth; };
+    while (k < text.size()) {
+        const char c = text[k];
+        const SourceLocation here{line, column + 1};
+        if (c == '#') {  // a comment, to the end of the line
+            while (k < text.size() && text[k] != '\n') advance(1);
+            continue;
+        }
+        if (c == '"' || c == '\'') {
+            const std::string closing(3, c);
+            const bool multi = text.substr(k, 3) == std::string_view(closing);
+            const size_t open = multi ? 3 : 1;
+            advance(open);
+            while (k < text.size()) {
+                if (c == '"' && text[k] == '\\') {
+                    advance(2);
+                    continue;
+                }
+                if (!multi && text[k] == '\n') break;  // an unterminated string: the parser will say so
+                if (multi ? text.substr(k, 3) == std::string_view(closing) : text[k] == c) {
+                    advance(open);
+                    break;
+                }
+                advance(1);
+            }
+            inKey = true;
+            continue;
+        }
+        if (c == '[' || c == '{') {
+            ++brackets;
+            keyParts = 1;
+            inKey = false;
+            if (tooDeep()) return here;
+        } else if (c == ']' || c == '}') {
+            brackets = std::max(0, brackets - 1);
+            keyParts = 1;
+            inKey = false;
+        } else if (c == '.') {
+            if (inKey) {
+                ++keyParts;
+                if (tooDeep()) return here;
+            }
+        } else if (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '+') {
+            inKey = true;
+        } else if (c != ' ' && c != '\t') {
+            keyParts = 1;
+            inKey = false;
+        }
+        advance(1);
+    }
+    return std::nullopt;
+}
+
 }  // namespace terracast::toml_reader

@@ -50,6 +50,14 @@ std::string quoteAll(std::span<const std::string> words);
 // What a TOML node is, with its article, for "found ..." phrases.
 std::string describeType(const toml::node& node);
 
+// ---- Before the parser ----
+
+// Where `text` nests deeper than `maxDepth` levels, counting open arrays and inline tables, table headers'
+// brackets and the parts of a dotted key (a.b.c is three): toml++ recurses once per level, so a file of a few
+// hundred kilobytes could otherwise exhaust the stack. None when the text stays within the bound. A lexical
+// scan, not a parse: it skips strings and comments and errs towards counting more (a float's dot counts as one).
+std::optional<SourceLocation> findExcessiveNesting(std::string_view text, int maxDepth);
+
 // ---- Near misses ----
 
 // Optimal string alignment distance (Levenshtein's edits plus adjacent transpositions, after Damerau 1964),

@@ -49,7 +49,7 @@ TEST_CASE("Points: CSV lines with a header, comments, heights and any separator"
 
 TEST_CASE("Points: bad files are one line naming the file and the line or feature", "[loaders][points]") {
     const Folder f;
-    CHECK(errorOf((f.path / "none.csv").string()).find("no such point file") != std::string::npos);
+    CHECK(errorOf((f.path / "none.csv").string()).find("no such file") != std::string::npos);
     CHECK(errorOf(f.write("empty.csv", "x,y\n")).find("holds no point") != std::string::npos);
     const std::string bad = errorOf(f.write("bad.csv", "1,2\n3,x\n"));
     CHECK(bad.find("bad.csv:2: expected X,Y or X,Y,HEIGHT") != std::string::npos);

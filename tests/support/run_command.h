@@ -1,13 +1,18 @@
 // Running the terracast executable from tests, capturing its exit code and output.
 #pragma once
 
+#include <fcntl.h>
 #include <sys/wait.h>
+
+#include <chrono>
+#include <csignal>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 #include <unistd.h>
 
 namespace terracast::testing {
@@ -36,6 +41,80 @@ inline CommandResult runTerracast(const std::string& args) {
     const int status = std::system(cmd.c_str());
     CommandResult r;
     r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(out);
+    r.err = slurp(err);
+    fs::remove(out);
+    fs::remove(err);
+    return r;
+}
+
+// How runTerracastArgs runs the executable.
+struct RunSettings {
+    std::filesystem::path workDir;    // the child's working folder (the test's own); empty: this process's
+    double timeoutS = 60.0;           // then SIGKILL, and the result says hung
+    double interruptAfterS = -1.0;    // send `signal` this long after the start (< 0: never)
+    int signal = SIGINT;
+    std::string stdinPath = "/dev/null";
+};
+
+struct ArgsResult : CommandResult {
+    bool hung = false;       // killed at the timeout
+    int termSignal = 0;      // the signal that ended it, if one did
+    double seconds = 0.0;    // from start to exit
+};
+
+// Runs the executable with `args` (no shell: each argument is passed as it is, newlines and all), its output
+// captured in files beside the test's working folder.
+inline ArgsResult runTerracastArgs(const std::vector<std::string>& args, const RunSettings& settings = {}) {
+    namespace fs = std::filesystem;
+    const std::string tag = std::to_string(::getpid()) + "-" + std::to_string(std::rand());
+    const fs::path out = fs::temp_directory_path() / ("terracast-out-" + tag),
+                   err = fs::temp_directory_path() / ("terracast-err-" + tag);
+    const auto start = std::chrono::steady_clock::now();
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        if (!settings.workDir.empty() && ::chdir(settings.workDir.c_str()) != 0) ::_exit(126);
+        const int in = ::open(settings.stdinPath.c_str(), O_RDONLY);
+        const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (in < 0 || o < 0 || e < 0) ::_exit(126);
+        ::dup2(in, 0);
+        ::dup2(o, 1);
+        ::dup2(e, 2);
+        std::vector<char*> argv;
+        std::string exe = TERRACAST_CLI_PATH;
+        argv.push_back(exe.data());
+        std::vector<std::string> copy = args;
+        for (auto& a : copy) argv.push_back(a.data());
+        argv.push_back(nullptr);
+        // A test runner may start jobs with SIGINT ignored; the executable must see the default disposition.
+        ::signal(SIGINT, SIG_DFL);
+        ::signal(SIGTERM, SIG_DFL);
+        ::execv(exe.c_str(), argv.data());
+        ::_exit(127);
+    }
+    ArgsResult r;
+    int status = 0;
+    bool signalled = false;
+    for (;;) {
+        const pid_t done = ::waitpid(pid, &status, WNOHANG);
+        if (done == pid) break;
+        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (!signalled && settings.interruptAfterS >= 0.0 && elapsed >= settings.interruptAfterS) {
+            ::kill(pid, settings.signal);
+            signalled = true;
+        }
+        if (elapsed >= settings.timeoutS) {
+            ::kill(pid, SIGKILL);
+            ::waitpid(pid, &status, 0);
+            r.hung = true;
+            break;
+        }
+        ::usleep(2000);
+    }
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.termSignal = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
     r.out = slurp(out);
     r.err = slurp(err);
     fs::remove(out);

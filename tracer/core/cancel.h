@@ -18,6 +18,23 @@ inline std::atomic<bool>& cancelFlag() {
     return flag;
 }
 
+// How many ExitOnCancel scopes are open; read by the signal handler (the load is lock-free).
+inline std::atomic<int>& exitOnCancelDepth() {
+    static std::atomic<int> depth{0};
+    return depth;
+}
+
+// While one lives, an interrupt ends the process at once with exit code 130 instead of waiting for a loop to
+// look at the flag: for reads that can block inside a library (GDAL opening a pipe, a network path that never
+// answers, a decoder) before any output or temporary file exists. The executable's signal handler honours it.
+class ExitOnCancel {
+public:
+    ExitOnCancel() { exitOnCancelDepth().fetch_add(1); }
+    ~ExitOnCancel() { exitOnCancelDepth().fetch_sub(1); }
+    ExitOnCancel(const ExitOnCancel&) = delete;
+    ExitOnCancel& operator=(const ExitOnCancel&) = delete;
+};
+
 // Throws Cancelled when cancellation was requested.
 inline void throwIfCancelled() {
     if (cancelFlag().load(std::memory_order_relaxed)) throw Cancelled();

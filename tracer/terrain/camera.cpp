@@ -58,7 +58,9 @@ std::optional<std::string> parseCamera(const std::string& text, PinholeCamera& c
         if (!(is >> a >> c1 >> b >> c2 >> c) || c1 != ',' || c2 != ',') return false;
         std::string rest;
         if (is >> rest) return false;
-        if (!std::isfinite(a) || !std::isfinite(b) || !std::isfinite(c)) return false;
+        // Beyond a million kilometres the camera's own arithmetic loses the DEM.
+        constexpr double kFarM = 1e9;
+        if (!(std::abs(a) <= kFarM && std::abs(b) <= kFarM && std::abs(c) <= kFarM)) return false;
         v = {a, b, c};
         return true;
     };
@@ -67,13 +69,13 @@ std::optional<std::string> parseCamera(const std::string& text, PinholeCamera& c
         if (eq == std::string::npos) return "expected key=value, found '" + item + "'";
         const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
         if (key == "eye") {
-            if (!parseVec(value, camera.eyeM)) return "eye expects x,y,z in metres, found '" + value + "'";
+            if (!parseVec(value, camera.eyeM)) return "eye expects x,y,z in metres (each within 1e9), found '" + value + "'";
             haveEye = true;
         } else if (key == "look") {
-            if (!parseVec(value, camera.lookAtM)) return "look expects x,y,z in metres, found '" + value + "'";
+            if (!parseVec(value, camera.lookAtM)) return "look expects x,y,z in metres (each within 1e9), found '" + value + "'";
             haveLook = true;
         } else if (key == "up") {
-            if (!parseVec(value, camera.up)) return "up expects x,y,z, found '" + value + "'";
+            if (!parseVec(value, camera.up)) return "up expects x,y,z (each within 1e9), found '" + value + "'";
         } else if (key == "fov") {
             char* end = nullptr;
             const double fov = std::strtod(value.c_str(), &end);
