@@ -51,7 +51,7 @@ int writeAll(int fd, std::string_view bytes) {
 // Creates the temporary file beside `path` in `folder` and returns its descriptor and name. A folder where no
 // file can be made is the user's to fix (InputError); anything else is a runtime failure.
 std::pair<int, fs::path> createTemporary(const std::string& path, const fs::path& folder) {
-    const fs::path temporary = folder / fmt::format(".{}.tmp{}", fs::path(path).filename().string(), getpid());
+    const fs::path temporary = temporaryPathFor(folder, lowerExtension(path));
     const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
     if (fd >= 0) return {fd, temporary};
     const int error = errno;
@@ -59,6 +59,20 @@ std::pair<int, fs::path> createTemporary(const std::string& path, const fs::path
         throw InputError(fmt::format("{}: folder '{}' is not writable ({})", path, folder.string(), std::strerror(error)));
     throw std::runtime_error(fmt::format("{}: cannot create a file in '{}' ({})", path, folder.string(),
                                          std::strerror(error)));
+}
+
+// Opens a device or pipe for writing in place. A pipe without a reader would block the open forever: it is
+// refused instead.
+int openInPlace(const std::string& path) {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC | O_NONBLOCK);
+    if (fd < 0) {
+        const int error = errno;
+        if (error == ENXIO) throw InputError(fmt::format("{}: a pipe with no reader; nothing would take the output", path));
+        throw std::runtime_error(fmt::format("{}: cannot open for writing ({})", path, std::strerror(error)));
+    }
+    const int flags = ::fcntl(fd, F_GETFL);
+    if (flags >= 0) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+    return fd;
 }
 
 // Decodes an sRGB value in [0, 1] to linear.
@@ -75,6 +89,7 @@ float srgbFromLinear(float linear) {
 }
 
 void checkCanWrite(const std::string& path) {
+    // A device or pipe is written in place at the end; opening a pipe now would end its reader's stream.
     if (isDeviceOrPipe(path)) return;
     const fs::path folder = writableFolder(path);
     // Permission bits do not tell the whole story (read-only mounts, /proc, root): create a file to be sure.
@@ -87,8 +102,7 @@ void checkCanWrite(const std::string& path) {
 void writeFileAtomically(const std::string& path, std::string_view bytes) {
     if (isDeviceOrPipe(path)) {
         // A device or a pipe is written in place: renaming over it would replace it, and it keeps no partial file.
-        const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
-        if (fd < 0) throw std::runtime_error(fmt::format("{}: cannot open for writing ({})", path, std::strerror(errno)));
+        const int fd = openInPlace(path);
         const int error = writeAll(fd, bytes);
         const bool closed = ::close(fd) == 0;
         if (error != 0 || !closed)
@@ -104,9 +118,8 @@ void writeFileAtomically(const std::string& path, std::string_view bytes) {
     if (error != 0 || !closed)
         throw std::runtime_error(fmt::format("{}: cannot write in '{}' ({})", path, folder.string(),
                                              std::strerror(error ? error : errno)));
-    std::error_code ec;
-    fs::rename(temporary.path(), fs::path(path), ec);
-    if (ec) throw std::runtime_error(fmt::format("{}: cannot write ({})", path, ec.message()));
+    if (const int failed = commitTemporary(temporary.path(), fs::path(path)))
+        throw std::runtime_error(fmt::format("{}: cannot write ({})", path, std::strerror(failed)));
     temporary.release();
 }
 

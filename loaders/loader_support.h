@@ -7,10 +7,13 @@
 #include <cpl_conv.h>
 #include <cpl_error.h>
 #include <fmt/format.h>
+#include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 #include <gdal.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cerrno>
 #include <cstdio>
@@ -105,6 +108,46 @@ public:
     QuietGdalErrors(const QuietGdalErrors&) = delete;
     QuietGdalErrors& operator=(const QuietGdalErrors&) = delete;
 };
+
+// The temporary file an output is written to before its rename: in the target's folder, named by this process's
+// id and a counter only, so that its name stays short whatever the target's length (a 248-byte name plus a
+// suffix would pass the file system's 255-byte limit). Temporary files of processes that no longer run (killed
+// between writing and renaming) are removed from the folder first.
+inline std::filesystem::path temporaryPathFor(const std::filesystem::path& folder, const std::string& extension) {
+    static std::atomic<int> counter{0};
+    std::error_code ec;
+    for (std::filesystem::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        long pid = 0;
+        int n = 0, used = 0;
+        if (std::sscanf(name.c_str(), ".terracast-%ld-%d.tmp%n", &pid, &n, &used) == 2 && used > 0 && pid > 0 &&
+            pid != long(::getpid()) && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH) {
+            std::error_code ignored;
+            std::filesystem::remove(it->path(), ignored);
+        }
+    }
+    return folder / fmt::format(".terracast-{}-{}.tmp{}", ::getpid(), counter++, extension);
+}
+
+// Makes a written temporary file the target durably: its data flushed to the disk, renamed over the target, and
+// the folder's entry flushed, so that a power cut leaves the old file or the new one, never an empty one.
+// Returns 0 or the errno of the step that failed.
+inline int commitTemporary(const std::filesystem::path& temporary, const std::filesystem::path& target) {
+    const int fd = ::open(temporary.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return errno;
+    const bool synced = ::fsync(fd) == 0;
+    const int syncError = errno;
+    ::close(fd);
+    if (!synced) return syncError;
+    if (::rename(temporary.c_str(), target.c_str()) != 0) return errno;
+    const std::filesystem::path folder = target.parent_path().empty() ? std::filesystem::path(".") : target.parent_path();
+    const int dir = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dir >= 0) {
+        ::fsync(dir);  // some file systems refuse to sync a folder; the file itself is already safe
+        ::close(dir);
+    }
+    return 0;
+}
 
 // Removes the file at `path` when destroyed, unless released: the temporary half of write-and-rename.
 class TemporaryFile {

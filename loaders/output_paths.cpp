@@ -20,6 +20,8 @@ void checkNotInput(const std::string& output, const std::string& input, const ch
 
 void checkOutputFolder(const std::string& path) {
     std::error_code ec;
+    if (fs::is_directory(path, ec))
+        throw InputError(fmt::format("{}: is a directory; expected the name of a file to write", path));
     const auto dir = fs::path(path).parent_path();
     if (!dir.empty() && !fs::is_directory(dir, ec))
         throw InputError(fmt::format("{}: output folder '{}' does not exist", path, dir.string()));

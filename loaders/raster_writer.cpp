@@ -1,6 +1,7 @@
 // Writing rasters on a DEM's grid as DEFLATE-compressed GeoTIFF through GDAL. Rows are written north-up
 // (file row 0 is the northmost raster row) with a pixel-is-area geotransform whose pixel centres fall on the
 // grid's vertices, so the file overlays the source DEM exactly.
+#include "loaders/image_io.h"
 #include "loaders/loader_support.h"
 #include "loaders/raster_writer.h"
 
@@ -8,6 +9,7 @@
 
 #include <cpl_error.h>
 #include <cpl_string.h>
+#include <cpl_vsi.h>
 #include <fmt/format.h>
 #include <gdal.h>
 #include <gdal_priv.h>
@@ -15,12 +17,15 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <mutex>
 #include <stdexcept>
+#include <string_view>
 #include <type_traits>
 
 namespace terracast {
@@ -96,8 +101,12 @@ void writeGeoTiff(const std::string& path, const GridRaster& raster, RasterType 
         throw InputError(fmt::format("{}: unsupported output format '{}' (expected .tif)", path, ext));
 
     const fs::path target(path);
-    const fs::path folder = writableFolder(path);
+    // A device or pipe (a link to /dev/null) is written in place, from a GeoTIFF made in memory: renaming over it
+    // would replace it with a regular file.
     std::error_code ec;
+    const auto status = fs::status(target, ec);
+    const bool inPlace = !ec && fs::exists(status) && !fs::is_regular_file(status) && !fs::is_directory(status);
+    const fs::path folder = inPlace ? fs::path() : writableFolder(path);
 
     registerGdalDrivers();
     QuietGdalErrors quiet;
@@ -117,7 +126,16 @@ void writeGeoTiff(const std::string& path, const GridRaster& raster, RasterType 
     if (driver == nullptr) throw fail("GDAL has no GTiff driver");
 
     // Declared before the dataset, so that the dataset is closed before the file is removed.
-    TemporaryFile temporary(folder / fmt::format(".{}.tmp{}{}", target.filename().string(), getpid(), ext));
+    static std::atomic<int> memoryFiles{0};
+    const fs::path temporaryPath = inPlace ? fs::path(fmt::format("/vsimem/terracast-out-{}-{}.tif", getpid(), memoryFiles++))
+                                           : temporaryPathFor(folder, ext);
+    TemporaryFile temporary(inPlace ? fs::path() : temporaryPath);
+    struct MemoryFile {
+        fs::path path;
+        ~MemoryFile() {
+            if (!path.empty()) VSIUnlink(path.c_str());
+        }
+    } memoryFile{inPlace ? temporaryPath : fs::path()};
     const GDALDataType gdalType = type == RasterType::Byte ? GDT_Byte : GDT_Float32;
     CPLStringList options;
     options.SetNameValue("COMPRESS", "DEFLATE");
@@ -127,7 +145,7 @@ void writeGeoTiff(const std::string& path, const GridRaster& raster, RasterType 
         options.SetNameValue("ALPHA", "YES");
         if (raster.bands == 4 && type == RasterType::Byte) options.SetNameValue("PHOTOMETRIC", "RGB");
     }
-    GDALDataset* dataset = driver->Create(temporary.path().c_str(), static_cast<int>(raster.width),
+    GDALDataset* dataset = driver->Create(temporaryPath.c_str(), static_cast<int>(raster.width),
                                           static_cast<int>(raster.height), raster.bands, gdalType, options.List());
     if (dataset == nullptr) throw fail("cannot create GeoTIFF");
     bool ok = true;
@@ -180,9 +198,15 @@ void writeGeoTiff(const std::string& path, const GridRaster& raster, RasterType 
     GDALClose(dataset);
     if (CPLGetLastErrorType() >= CE_Failure) throw fail("cannot write GeoTIFF");
 
-    fs::rename(temporary.path(), target, ec);
-    if (ec) throw std::runtime_error(fmt::format("{}: cannot rename '{}' ({})", path, temporary.path().string(),
-                                                 ec.message()));
+    if (inPlace) {
+        vsi_l_offset size = 0;
+        const GByte* data = VSIGetMemFileBuffer(temporaryPath.c_str(), &size, FALSE);
+        if (data == nullptr) throw fail("cannot write GeoTIFF");
+        writeFileAtomically(path, std::string_view(reinterpret_cast<const char*>(data), size_t(size)));
+        return;
+    }
+    if (const int failed = commitTemporary(temporary.path(), target))
+        throw std::runtime_error(fmt::format("{}: cannot write ({})", path, std::strerror(failed)));
     temporary.release();
 }
 

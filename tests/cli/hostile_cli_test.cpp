@@ -48,6 +48,19 @@ void makeFixtures(const fs::path& dir) {
     fs::create_symlink("loop-b.tif", dir / "loop-a.tif");
     fs::create_symlink("loop-a.tif", dir / "loop-b.tif");
     fs::create_directory(dir / "folder.tif");
+    fs::create_directory(dir / "folder.png");
+    fs::create_directory(dir / "sub");
+    // Outputs that are not plain new files, and other names of the DEM.
+    fs::create_symlink("/dev/null", dir / "null.tif");
+    fs::create_symlink("/dev/full", dir / "full.tif");
+    fs::create_symlink("/dev/full", dir / "full.png");
+    ::mkfifo((dir / "out-fifo.png").c_str(), 0644);
+    fs::create_symlink("dem.tif", dir / "alias.tif");
+    fs::create_hard_link(dir / "dem.tif", dir / "hard.tif");
+    fs::create_hard_link(dir / "dem.tif", dir / "bilinear.png");
+    // A scene that would run for hours.
+    std::ofstream(dir / "long.toml") << "[render]\nwidth = 4096\nheight = 4096\nsamples = 65536\n"
+                                        "[[object]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\n";
     std::ofstream(dir / "empty.tif").flush();
     // Deep nesting that would exhaust the TOML parser's stack.
     {
@@ -101,7 +114,8 @@ std::string shellWord(const std::string& arg) {
 std::string tableRow(const Case& c, const ArgsResult& r) {
     std::string command = "terracast";
     for (const auto& a : c.args) command.append(" ").append(shellWord(a));
-    std::string line = r.err.substr(0, r.err.find('\n'));
+    // A run that succeeds prints its summary, with times that vary.
+    std::string line = r.exitCode == 0 ? std::string("(its summary)") : r.err.substr(0, r.err.find('\n'));
     std::string escaped;
     for (char ch : line) escaped += ch == '|' ? std::string("\\|") : ch == '`' ? std::string("'") : std::string(1, ch);
     return "| " + c.name + " | `" + command + "` | " + std::to_string(r.exitCode) + " | " + escaped + " |";
@@ -234,6 +248,34 @@ TEST_CASE("Hostile inputs: non-finite and absurd numbers in options", "[cli][hos
                      {"render", "dem.tif", "-o", "out.png", "--camera", "eye=-1e300,0,0 look=0,0,0"}, 2,
                      "--camera: eye expects x,y,z in metres (each within 1e9), found '-1e300,0,0'"});
     runCases("options", cases);
+}
+
+TEST_CASE("Hostile outputs: inputs never overwritten, devices and pipes written in place or refused", "[cli][hostile]") {
+    runCases("outputs",
+             {{"shadow -o the DEM itself", {"shadow", "dem.tif", "-o", "dem.tif"}, 2, "dem.tif: output path is the input DEM"},
+              {"shadow -o a link to the DEM", {"shadow", "dem.tif", "-o", "alias.tif"}, 2, "alias.tif: output path is the input DEM"},
+              {"shadow -o a hard link to the DEM", {"shadow", "dem.tif", "-o", "hard.tif"}, 2, "hard.tif: output path is the input DEM"},
+              {"shadow -o the DEM through ..", {"shadow", "dem.tif", "-o", "sub/../dem.tif"}, 2, "output path is the input DEM"},
+              {"compare --out-dir holding the DEM as bilinear.png", {"compare", "dem.tif", "--out-dir", ".", "--size", "32x24"}, 2,
+               "bilinear.png: --out-dir file is the input DEM"},
+              {"render -o a folder", {"render", "dem.tif", "-o", "folder.png", "--size", "32x24"}, 2, "folder.png: "},
+              {"shadow -o a link to /dev/full", {"shadow", "dem.tif", "-o", "full.tif"}, 1, "full.tif: cannot write (No space left on device)"},
+              {"render -o a link to /dev/full", {"render", "dem.tif", "-o", "full.png", "--size", "32x24"}, 1,
+               "full.png: cannot write (No space left on device)"},
+              {"shadow -o a link to /dev/null", {"shadow", "dem.tif", "-o", "null.tif"}, 0, "shadow mask null.tif"},
+              {"render -o a FIFO nobody reads", {"render", "dem.tif", "-o", "out-fifo.png", "--size", "32x24"}, 2,
+               "out-fifo.png: a pipe with no reader"}});
+}
+
+TEST_CASE("Hostile inputs: Ctrl-C stops every long command between units of work", "[cli][hostile]") {
+    runCases("interrupts",
+             {{"scene of 4096^2 pixels at 65536 spp, SIGINT after 1.5 s", {"scene", "long.toml", "-o", "long.png"}, 130,
+               "terracast: interrupted; no output written", 1.5},
+              {"accuracy of 3 M rays, SIGINT after 1 s", {"accuracy", "dem.tif", "--rays", "3000000", "--json", "acc.json"}, 130,
+               "terracast: interrupted; no output written", 1.0},
+              {"compare at 2048x2048 into a new folder, SIGINT after 1.5 s",
+               {"compare", "dem.tif", "--out-dir", "new-folder", "--size", "2048x2048"}, 130,
+               "terracast: interrupted; no output written", 1.5}});
 }
 
 TEST_CASE("Hostile inputs: Ctrl-C while GDAL waits on a server that never answers", "[cli][hostile]") {

@@ -1,6 +1,7 @@
 #include "tracer/measure/accuracy.h"
 
 #include "tracer/core/angles.h"
+#include "tracer/core/cancel.h"
 
 #include "tracer/terrain/camera.h"
 
@@ -93,6 +94,7 @@ AccuracyReport measureAccuracy(const HeightGrid& grid, const AccuracyOptions& op
     std::vector<std::optional<double>> refT(rays.size());
     std::vector<char> ambiguous(rays.size(), 0);
     for (size_t k = 0; k < rays.size(); ++k) {
+        if ((k & 1023) == 0) throwIfCancelled();
         TraceCounters counters;
         const auto hit = intersect(grid, rays[k].ray, rays[k].interval, CellMethod::Reference, &counters);
         if (hit) refT[k] = hit->t;
@@ -111,8 +113,10 @@ AccuracyReport measureAccuracy(const HeightGrid& grid, const AccuracyOptions& op
         acc.method = m;
         std::vector<std::optional<double>> t(rays.size());
         const auto start = std::chrono::steady_clock::now();
-        for (size_t k = 0; k < rays.size(); ++k)
+        for (size_t k = 0; k < rays.size(); ++k) {
+            if ((k & 1023) == 0) throwIfCancelled();
             if (auto hit = intersect(grid, rays[k].ray, rays[k].interval, m)) t[k] = hit->t;
+        }
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         acc.raysPerSecond = seconds > 0.0 ? double(rays.size()) / seconds : 0.0;
         std::vector<double> absErr, relErr;

@@ -72,9 +72,28 @@ void runCompareReport(const CompareRunOptions& o, const RunListener& listener) {
                     pixels * (20.0 * double(cs.methods.size() + 1) + 120.0) + embree,
                     fmt::format("comparing {} methods at {}x{}", cs.methods.size(), o.width, o.height));
     }
-    // The output folder is made only once the input has loaded, so a bad input leaves nothing behind.
-    if (!o.outDir.empty() && !fs::is_directory(o.outDir, ec) && !fs::create_directories(o.outDir, ec))
-        throw InputError(fmt::format("--out-dir: cannot create folder '{}' ({})", o.outDir, ec.message()));
+    // No file compare writes may be the DEM, however the paths are spelt (links, "..", hard links).
+    if (!o.outDir.empty()) {
+        for (SurfaceMethod m : cs.methods)
+            for (const char* prefix : {"", "diff-"})
+                checkNotInput((fs::path(o.outDir) / (prefix + std::string(surfaceMethodName(m)) + ".png")).string(),
+                              o.dem.path, "--out-dir file");
+        checkNotInput((fs::path(o.outDir) / "tradeoff.svg").string(), o.dem.path, "--out-dir file");
+    }
+    // The output folder is made only once the input has loaded, so a bad input leaves nothing behind; a folder
+    // made here is removed again if the run ends without writing into it (a failure, Ctrl-C).
+    struct MadeFolder {
+        fs::path path;
+        ~MadeFolder() {
+            std::error_code ignored;
+            if (!path.empty()) fs::remove(path, ignored);  // only while empty
+        }
+    } madeFolder;
+    if (!o.outDir.empty() && !fs::is_directory(o.outDir, ec)) {
+        if (!fs::create_directories(o.outDir, ec))
+            throw InputError(fmt::format("--out-dir: cannot create folder '{}' ({})", o.outDir, ec.message()));
+        madeFolder.path = o.outDir;
+    }
 
     if (listener.step)
         cs.onMethod = [&](SurfaceMethod m, size_t k, size_t n) {

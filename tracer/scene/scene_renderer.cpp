@@ -1,6 +1,7 @@
 #include "tracer/scene/scene_renderer.h"
 
 #include "tracer/core/angles.h"
+#include "tracer/core/cancel.h"
 
 #include "tracer/scene/optics.h"
 #include "tracer/core/parallel.h"
@@ -364,6 +365,8 @@ glm::vec3 pixelValue(const Scene& scene, const Sky& sky, const SceneCamera& came
     RunningStats stats;
     const int n = sampler ? (s.adaptive ? s.rule.maxSamples : sampler->samplesPerPixel()) : 1;
     for (int k = 0; k < n; ++k) {
+        // A pixel of 65536 samples takes seconds: an interrupt is honoured within it (the film is dropped).
+        if ((k & 255) == 255 && cancelFlag().load(std::memory_order_relaxed)) break;
         const CameraSample c = cameraSample(scene, sky, camera, s, sampler, x, y, k, counters, tree);
         acc.add(c.radiance, c.weight);
         ++counters.samples;
@@ -470,7 +473,10 @@ Film renderScene(const Scene& scene, const SceneCamera& camera, const SceneRende
     parallelForTiles(s.width, s.height, s.tileSize, s.threads, [&](int x0, int y0, int x1, int y1) {
         Counters counters;
         for (int y = y0; y < y1; ++y)
-            for (int x = x0; x < x1; ++x) film.set(x, y, pixelValue(scene, sky, camera, s, sampler.get(), x, y, counters, nullptr));
+            for (int x = x0; x < x1; ++x) {
+                if (cancelFlag().load(std::memory_order_relaxed)) return;  // parallelForTiles throws Cancelled
+                film.set(x, y, pixelValue(scene, sky, camera, s, sampler.get(), x, y, counters, nullptr));
+            }
         std::lock_guard lock(mutex);
         counters.addTo(total);
         pixelsDone += int64_t(x1 - x0) * (y1 - y0);
