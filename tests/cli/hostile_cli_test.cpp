@@ -306,3 +306,25 @@ TEST_CASE("Hostile inputs: Ctrl-C while GDAL waits on a server that never answer
     CHECK(r.seconds < 5.0);
     CHECK(dir.entryCount() == 0);
 }
+
+TEST_CASE("Hostile outputs: a 248-byte output name is written, and temporary files of dead runs are cleared",
+          "[cli][hostile]") {
+    TempDir dir("hostile-names");
+    fs::copy_file(kStHelens, dir.path() / "dem.tif");
+    // A temporary file left by a run killed between writing and renaming (its process is gone: a pid above
+    // Linux's largest), and one of a run still going (this test's own process).
+    const std::string stale = ".terracast-4194305-0.tmp.png";
+    const std::string live = ".terracast-" + std::to_string(::getpid()) + "-0.tmp.png";
+    std::ofstream(dir.path() / stale) << "partial";
+    std::ofstream(dir.path() / live) << "in progress";
+    const std::string name = std::string(244, 'x') + ".png";
+    RunSettings settings;
+    settings.workDir = dir.path();
+    const ArgsResult r = runTerracastArgs({"render", "dem.tif", "--size", "32x24", "-o", name}, settings);
+    INFO(r.err);
+    CHECK(r.exitCode == 0);
+    CHECK(fs::file_size(dir.path() / name) > 100);
+    CHECK_FALSE(fs::exists(dir.path() / stale));
+    CHECK(fs::exists(dir.path() / live));
+    CHECK(dir.entryCount() == 3);  // the DEM, the picture and the live run's file
+}
