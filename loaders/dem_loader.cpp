@@ -66,12 +66,14 @@ void checkRasterSize(const std::string& path, int64_t width, int64_t height, dou
     if (width < 2 || height < 2)
         throw InputError(fmt::format("{}: {} x {} raster has no cell to trace (need at least 2 x 2)", path, width,
                                      height));
+    // What the process holds already (libraries, the image codec when it reads a PNG) counts against the limit.
+    const double held = currentResidentBytes();
     const double bytes = static_cast<double>(width) * static_cast<double>(height) * kBytesPerVertex;
     const double limit = memoryLimitBytes(maxBytes);
-    if (bytes > limit)
-        throw InputError(fmt::format("{}: {} x {} raster needs about {:.2f} GiB to load and trace, more than the "
-                                     "{:.2f} GiB limit (--max-memory)",
-                                     path, width, height, bytes / kGiB, limit / kGiB));
+    if (held + bytes > limit)
+        throw InputError(fmt::format("{}: {} x {} raster needs about {:.2f} GiB to load and trace ({} held already), "
+                                     "more than the {:.2f} GiB limit (--max-memory)",
+                                     path, width, height, bytes / kGiB, humanBytes(held), limit / kGiB));
 }
 
 // Builds the grid, naming the file in any GridError, and refuses grids without a cell to trace.
@@ -230,7 +232,8 @@ void checkBlockSize(const std::string& path, GDALDataset& dataset, GDALRasterBan
     const double blockBytes = static_cast<double>(std::max(blockX, 1)) * std::max(blockY, 1) * sampleBytes;
     const double rasterBytes =
         static_cast<double>(dataset.GetRasterXSize()) * static_cast<double>(dataset.GetRasterYSize()) * sampleBytes;
-    const double limit = memoryLimitBytes(maxBytes);
+    // A block is held against the room the limit leaves beside what the process holds already.
+    const double limit = memoryLimitBytes(maxBytes) - currentResidentBytes();
     const double plausibleBytes = std::max(kAlwaysAllowedBytes, rasterBytes);
     const double allowedBytes = std::min(limit, plausibleBytes);
     if (blockBytes <= allowedBytes) return;
@@ -362,6 +365,9 @@ void checkPngIsComplete(const std::string& path) {
     if (ec || !in.read(reinterpret_cast<char*>(bytes), 8)) return;
     if (!std::equal(bytes, bytes + 8, kSignature))
         throw InputError(path + ": not a PNG file (its first 8 bytes are not the PNG signature)");
+    int64_t width = 0, height = 0;
+    int bitDepth = 8, channels = 1;
+    uint64_t compressedBytes = 0;
     for (uint64_t position = 8;;) {
         if (position + 8 > size || !in.seekg(static_cast<std::streamoff>(position)) ||
             !in.read(reinterpret_cast<char*>(bytes), 8))
@@ -376,18 +382,34 @@ void checkPngIsComplete(const std::string& path) {
         if (end > size)
             throw InputError(fmt::format("{}: truncated PNG ({} chunk at byte {} ends at byte {}, file has {})", path,
                                          type, position, end, size));
-        if (position == 8 && type == "IHDR" && length >= 8) {
+        if (position == 8 && type == "IHDR" && length >= 10) {
             // The header's size, read here so that a 0 x 0 image gets the same message as any other raster.
-            unsigned char header[8] = {};
-            if (in.read(reinterpret_cast<char*>(header), 8)) {
+            unsigned char header[10] = {};
+            if (in.read(reinterpret_cast<char*>(header), 10)) {
                 const auto be32 = [](const unsigned char* b) {
                     return int64_t{b[0]} << 24 | int64_t{b[1]} << 16 | int64_t{b[2]} << 8 | int64_t{b[3]};
                 };
-                const int64_t width = be32(header), height = be32(header + 4);
+                width = be32(header);
+                height = be32(header + 4);
+                bitDepth = header[8];
+                const int colourType = header[9];
+                channels = colourType == 2 ? 3 : colourType == 4 ? 2 : colourType == 6 ? 4 : 1;
                 if (width == 0 || height == 0) throw InputError(fmt::format("{}: raster is {} x {}, with no sample to trace", path, width, height));
             }
         }
-        if (type == "IEND") return;
+        if (type == "IDAT") compressedBytes += length;
+        if (type == "IEND") {
+            // Deflate encodes at most 258 bytes in a match of about 2 bits (1032 : 1): a header that claims more
+            // samples than the compressed data could hold is refused here, before the decoder allocates for it.
+            // Each row adds its filter byte (and interlaced passes up to seven per row).
+            const double rowBytes = std::ceil(double(width) * channels * bitDepth / 8.0) + 8.0;
+            const double rawBytes = double(height) * rowBytes;
+            if (rawBytes > 1100.0 * double(compressedBytes) + 65536.0)
+                throw InputError(fmt::format("{}: header claims {} x {} samples ({} of pixel data), more than its {} "
+                                             "compressed bytes can hold; the file is truncated or corrupt",
+                                             path, width, height, humanBytes(rawBytes), compressedBytes));
+            return;
+        }
         position = end;
     }
 }

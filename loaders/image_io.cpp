@@ -125,6 +125,8 @@ void writeFileAtomically(const std::string& path, std::string_view bytes) {
 
 void writeTextFile(const std::string& path, const std::string& text) { writeFileAtomically(path, text); }
 
+void loadImageCodec() { image_codec::api(); }
+
 namespace {
 
 // The bytes of an image in the format `path`'s extension names, encoded in memory from `pixels` (of type `given`,

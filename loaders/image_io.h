@@ -35,6 +35,10 @@ void writeTextFile(const std::string& path, const std::string& text);
 // names a device or pipe (written in place). Throws InputError naming the path otherwise.
 void checkCanWrite(const std::string& path);
 
+// Loads the image codec module now (it is otherwise loaded on first use), so that the memory it takes is
+// counted by a memory check made before a picture is written. Throws std::runtime_error when it cannot load.
+void loadImageCodec();
+
 // Writes `bytes` to `path` through a temporary file in the same folder and a rename; a device or pipe (such
 // as /dev/null) is written in place. Throws InputError for a missing or unwritable folder, std::runtime_error
 // when writing fails (a full disk), and never leaves a partial file.

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <fcntl.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 
 #include <chrono>
@@ -61,6 +62,7 @@ struct ArgsResult : CommandResult {
     bool hung = false;       // killed at the timeout
     int termSignal = 0;      // the signal that ended it, if one did
     double seconds = 0.0;    // from start to exit
+    double peakBytes = 0.0;  // the child's peak resident memory (getrusage's ru_maxrss)
 };
 
 // Runs the executable with `args` (no shell: each argument is passed as it is, newlines and all), its output
@@ -96,8 +98,9 @@ inline ArgsResult runTerracastArgs(const std::vector<std::string>& args, const R
     ArgsResult r;
     int status = 0;
     bool signalled = false;
+    struct rusage usage {};
     for (;;) {
-        const pid_t done = ::waitpid(pid, &status, WNOHANG);
+        const pid_t done = ::wait4(pid, &status, WNOHANG, &usage);
         if (done == pid) break;
         const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (!signalled && settings.interruptAfterS >= 0.0 && elapsed >= settings.interruptAfterS) {
@@ -106,13 +109,14 @@ inline ArgsResult runTerracastArgs(const std::vector<std::string>& args, const R
         }
         if (elapsed >= settings.timeoutS) {
             ::kill(pid, SIGKILL);
-            ::waitpid(pid, &status, 0);
+            ::wait4(pid, &status, 0, &usage);
             r.hung = true;
             break;
         }
         ::usleep(2000);
     }
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    r.peakBytes = double(usage.ru_maxrss) * 1024.0;
     r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     r.termSignal = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
     r.out = slurp(out);

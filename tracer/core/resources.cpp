@@ -1,5 +1,7 @@
 #include "tracer/core/resources.h"
 
+#include <cstdio>
+
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -12,6 +14,16 @@ double defaultMemoryLimitBytes() {
 }
 
 double memoryLimitBytes(double maxBytes) { return maxBytes > 0.0 ? maxBytes : defaultMemoryLimitBytes(); }
+
+double currentResidentBytes() {
+    // /proc/self/statm: total and resident size, in pages.
+    std::FILE* f = std::fopen("/proc/self/statm", "r");
+    if (f == nullptr) return peakResidentBytes();
+    long total = 0, resident = 0;
+    const bool ok = std::fscanf(f, "%ld %ld", &total, &resident) == 2;
+    std::fclose(f);
+    return ok ? double(resident) * double(sysconf(_SC_PAGESIZE)) : peakResidentBytes();
+}
 
 double peakResidentBytes() {
     rusage usage{};

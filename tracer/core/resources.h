@@ -9,5 +9,7 @@ double defaultMemoryLimitBytes();
 double memoryLimitBytes(double maxBytes);
 // The most resident memory this process has held so far.
 double peakResidentBytes();
+// The resident memory this process holds now (libraries, everything allocated and touched).
+double currentResidentBytes();
 
 }  // namespace terracast

@@ -24,6 +24,10 @@ void runAccuracyReport(const AccuracyRunOptions& o, const RunListener& listener)
         throw InputError(fmt::format("--rays: expected 3 .. 100000000, found {}", o.rays));
     if (!o.json.empty()) checkReportPath(o.json, o.dem.path);
     const LoadedDem dem = loadDemSource(o.dem, listener);
+    // Per ray: the ray and its interval (growing by doubling), the reference's answer and one method's at a
+    // time, and two error lists: under 200 bytes.
+    checkMemory(o.dem.path, o.dem.maxMemoryBytes, dem.grid, 200.0 * double(o.rays),
+                fmt::format("measuring {} rays", o.rays));
     AccuracyOptions options;
     options.rays = o.rays;
     options.seed = o.seed;
@@ -68,6 +72,7 @@ void runCompareReport(const CompareRunOptions& o, const RunListener& listener) {
         double embree = 0.0;
         for (SurfaceMethod m : cs.methods) embree = std::max(embree, embreeBytesEstimate(m, dem.grid));
         const double pixels = double(o.width) * o.height;
+        if (!o.outDir.empty()) loadImageCodec();
         checkMemory(o.dem.path, o.dem.maxMemoryBytes, dem.grid,
                     pixels * (20.0 * double(cs.methods.size() + 1) + 120.0) + embree,
                     fmt::format("comparing {} methods at {}x{}", cs.methods.size(), o.width, o.height));

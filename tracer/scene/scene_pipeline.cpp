@@ -94,10 +94,15 @@ void renderSceneFile(const SceneRunOptions& o, const RunListener& listener) {
     for (size_t k = 0, g = 0; k < d.objects.size(); ++k)
         if (d.objects[k].kind == ObjectKind::HeightField)
             embreeBytes += embreeBytesEstimate(d.objects[k].method, *loaded.assets.grids[g++]);
-    const double need = loaded.bytes + embreeBytes + double(r.width) * r.height * kFilmBytesPerPixel;
+    // What the process holds now (libraries, the loaded assets), Embree's scenes, the film and the picture's
+    // encoding.
+    if (writesImage) loadImageCodec();
+    const double held = currentResidentBytes();
+    const double need = held + embreeBytes + double(r.width) * r.height * (kFilmBytesPerPixel + kEncodeBytesPerPixel);
     if (need > limit)
-        throw InputError(fmt::format("{}: rendering {}x{} needs about {}, more than the {} limit (--max-memory)", o.path,
-                                     r.width, r.height, humanBytes(need), humanBytes(limit)));
+        throw InputError(fmt::format("{}: rendering {}x{} needs about {} ({} held already), more than the {} limit "
+                                     "(--max-memory)",
+                                     o.path, r.width, r.height, humanBytes(need), humanBytes(held), humanBytes(limit)));
 
     const Scene scene(d, loaded.assets);
     const double aspect = double(r.width) / double(r.height);

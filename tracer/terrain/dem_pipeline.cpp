@@ -125,6 +125,16 @@ void renderMap(const DemRenderOptions& o, const RunListener& listener) {
     m.method = requireDirectMethod(o.method, "--view map");
     m.threads = o.threads;
     m.progress = listener.progress;
+    {
+        // The film and its coverage mask, then either the PNG's copy and encoding or the GeoTIFF's four float
+        // bands; the output size follows renderMapView's (scale times the DEM's vertices).
+        const double pixels = std::ceil(double(dem.grid.width()) * o.scale) * std::ceil(double(dem.grid.height()) * o.scale);
+        const bool png = lowerExtension(o.output) == ".png";
+        if (png) loadImageCodec();
+        checkMemory(o.dem.path, o.dem.maxMemoryBytes, dem.grid,
+                    pixels * (kFilmBytesPerPixel + 1.0 + (png ? kFilmBytesPerPixel + kEncodeBytesPerPixel : 17.0)),
+                    fmt::format("the map view at scale {:g}", o.scale));
+    }
     listener.at("map view");
     const auto start = std::chrono::steady_clock::now();
     const MapImage image = renderMapView(dem.grid, m);
@@ -185,8 +195,9 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     s.seed = o.seed;
     s.progress = listener.progress;
 
+    loadImageCodec();
     checkMemory(o.dem.path, o.dem.maxMemoryBytes, grid,
-                double(o.width) * o.height * kFilmBytesPerPixel + embreeBytesEstimate(o.method, grid),
+                double(o.width) * o.height * (kFilmBytesPerPixel + kEncodeBytesPerPixel) + embreeBytesEstimate(o.method, grid),
                 fmt::format("rendering {}x{} with {}", o.width, o.height, surfaceMethodName(o.method)));
     const auto loaded = Clock::now();
     const TerrainSurface surface(grid, o.method, o.threads);

@@ -57,6 +57,18 @@ void writeVertexRaster(const std::string& path, const LoadedDem& dem, MapRaster 
                  sourcePixelSizeY(dem.geo));
 }
 
+// The memory guard for a per-vertex product of `bands` bands written as `type`: the bands in float while they
+// are computed, GDAL's cache holding the written blocks until the file is flushed (the raster again, in its
+// stored type), strip and compression buffers, and `more` (a second raster, a curved grid). What the process
+// holds already (the grid, libraries) is measured by checkMemory.
+void checkRasterJob(const LoadedDem& dem, double maxMemoryBytes, int bands, RasterType type, double more,
+                    const std::string& what) {
+    const double cells = double(dem.grid.width()) * double(dem.grid.height());
+    const double stored = type == RasterType::Byte ? 1.0 : 4.0;
+    checkMemory(dem.path, maxMemoryBytes, dem.grid, cells * double(bands) * (4.0 + stored) + 16.0 * 1048576.0 + more,
+                what);
+}
+
 // The line that ends a raster command: what was written, its size, seconds, rays and peak memory.
 struct RasterShape {
     int64_t width = 0, height = 0;
@@ -130,9 +142,8 @@ void writeShadowSeries(const ShadowMapOptions& o, const RunListener& listener) {
                        {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
     listener.tell(fmt::format("{} sun times from {} to {}, the sun above the horizon at {} of them", o.sunTimes.size(),
                               formatUtc(o.sunTimes.front()), formatUtc(o.sunTimes.back()), up));
-    checkMemory(o.dem.path, o.dem.maxMemoryBytes, dem.grid,
-                4.0 * double(dem.grid.width()) * double(dem.grid.height()) * double(suns.size()),
-                fmt::format("{} shadow bands", suns.size()));
+    checkRasterJob(dem, o.dem.maxMemoryBytes, int(suns.size()), RasterType::Byte, 0.0,
+                   fmt::format("{} shadow bands", suns.size()));
     listener.at("shadow");
     const auto start = std::chrono::steady_clock::now();
     MapRaster masks = shadowMasks(dem.grid, suns, method, o.threads, search, listener.progress);
@@ -231,6 +242,8 @@ void writeShadowMap(const ShadowMapOptions& o, const RunListener& listener) {
     const HorizonSearch search = searchFrom(o.maxDistanceM, o.curvatureCoeff, "shadow");
     const CellMethod method = requireDirectMethod(o.method, "shadow");
     const LoadedDem dem = loadDemSource(o.dem, listener);
+    checkRasterJob(dem, o.dem.maxMemoryBytes, 1, o.sunSizeDeg == 0.0 ? RasterType::Byte : RasterType::Float32, 0.0,
+                   "a shadow mask");
     listener.at("shadow");
     const auto start = std::chrono::steady_clock::now();
     const int samples = 16;
@@ -275,10 +288,8 @@ void writeHorizonMap(const HorizonMapOptions& o, const RunListener& listener) {
                        {"TERRACAST_MAX_DISTANCE_M", number(o.maxDistanceM)},
                        {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
                        {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
-    // The bands in float, and their copy as the GeoTIFF is written a block at a time (GDAL's cache).
-    checkMemory(o.dem.path, o.dem.maxMemoryBytes, dem.grid, 4.0 * double(dem.grid.width()) * double(dem.grid.height()) *
-                                                                double(azimuths.size()),
-                fmt::format("{} horizon bands", azimuths.size()));
+    checkRasterJob(dem, o.dem.maxMemoryBytes, int(azimuths.size()), RasterType::Float32, 0.0,
+                   fmt::format("{} horizon bands", azimuths.size()));
     MapRaster horizon = horizonMaps(dem.grid, azimuths, method, o.threads, search, listener.progress);
     const RasterShape shape(horizon);
     writeVertexRaster(o.output, dem, std::move(horizon), RasterType::Float32, -9999.0, std::move(labels));
@@ -297,6 +308,7 @@ void writeSkyViewMap(const SkyViewMapOptions& o, const RunListener& listener) {
     const double radius = o.maxDistanceM > 0.0 ? o.maxDistanceM
                                                : 10.0 * std::max(dem.grid.cellSizeXM(), dem.grid.cellSizeYM());
     s.search.maxDistanceM = radius;
+    checkRasterJob(dem, o.dem.maxMemoryBytes, 3, RasterType::Float32, 0.0, "sky-view factor and openness");
     s.directions = o.directions;
     s.threads = o.threads;
     s.progress = listener.progress;
@@ -391,9 +403,7 @@ void writeInsolationMap(const InsolationMapOptions& o, const RunListener& listen
                               "over each of {} blocks of {} x {} vertices",
                               span, o.dates.lastDay - o.dates.firstDay + 1, days, positions, up, lat, lon, -convergence,
                               blocks, InsolationSettings::kSunBlock, InsolationSettings::kSunBlock));
-    checkMemory(o.dem.path, o.dem.maxMemoryBytes, dem.grid,
-                4.0 * double(dem.grid.width()) * double(dem.grid.height()) * double(kInsolationBands),
-                "insolation bands");
+    checkRasterJob(dem, o.dem.maxMemoryBytes, kInsolationBands, RasterType::Float32, 0.0, "insolation bands");
     s.threads = o.threads;
     s.progress = listener.progress;
     listener.at("insolation");
@@ -477,6 +487,13 @@ void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) 
     s.curvatureCoeff = o.curvatureCoeff;
     s.maxDistanceM = o.maxDistanceM;
     s.threads = o.threads;
+    // With many observers, each one's raster beside the running count; with curvature, a lowered copy of the
+    // grid (heights as floats, their validity and pyramid).
+    checkRasterJob(dem, o.dem.maxMemoryBytes, observers.size() > 1 ? 2 : 1, RasterType::Float32,
+                   s.curvatureCoeff != 0.0 ? double(dem.grid.memoryBytes()) +
+                                                 5.0 * double(dem.grid.width()) * double(dem.grid.height())
+                                           : 0.0,
+                   "the viewshed");
     listener.at("viewshed");
     const auto start = std::chrono::steady_clock::now();
     MapRaster count;

@@ -18,11 +18,13 @@ double embreeBytesEstimate(SurfaceMethod m, const HeightGrid& grid) {
 void checkMemory(const std::string& path, double maxMemoryBytes, const HeightGrid& grid, double extraBytes,
                  const std::string& what) {
     const double limit = memoryLimitBytes(maxMemoryBytes);
-    const double need = double(grid.memoryBytes()) + extraBytes;
+    const double held = currentResidentBytes();
+    const double need = held + extraBytes;
     if (need > limit)
-        throw InputError(fmt::format("{}: {} needs about {} ({} for the grid), more than the {} limit (--max-memory)",
-                                     path, what, humanBytes(need), humanBytes(double(grid.memoryBytes())),
-                                     humanBytes(limit)));
+        throw InputError(fmt::format("{}: {} needs about {} ({} held already, {} of it the grid), more than the {} "
+                                     "limit (--max-memory)",
+                                     path, what, humanBytes(need), humanBytes(held),
+                                     humanBytes(double(grid.memoryBytes())), humanBytes(limit)));
 }
 
 }  // namespace terracast

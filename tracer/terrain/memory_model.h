@@ -16,8 +16,13 @@ inline constexpr double kFilmBytesPerPixel = 12.0;
 // geometry); 0 for the direct methods, which add nothing to the grid.
 double embreeBytesEstimate(SurfaceMethod method, const HeightGrid& grid);
 
-// Refuses (InputError naming `path`) a job whose estimate, the grid already loaded plus `extraBytes` still to
-// allocate, exceeds `maxMemoryBytes` (0 = the default limit).
+// Bytes per pixel of a picture written as PNG or EXR beyond its film: the 8-bit or half copy handed to the
+// encoder and the encoded bytes, held at once.
+inline constexpr double kEncodeBytesPerPixel = 12.0;
+
+// Refuses (InputError naming `path`) a job whose estimate exceeds `maxMemoryBytes` (0 = the default limit):
+// what the process holds now (its libraries, the grid already loaded; measured, not modelled) plus
+// `extraBytes` still to allocate. Callers load the libraries the job will need (the image codec) first.
 void checkMemory(const std::string& path, double maxMemoryBytes, const HeightGrid& grid, double extraBytes,
                  const std::string& what);
 
