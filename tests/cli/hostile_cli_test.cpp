@@ -10,6 +10,7 @@
 #include <gdal_priv.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
+#include <sys/un.h>
 #include <sys/stat.h>
 
 #include <atomic>
@@ -62,6 +63,26 @@ void makeFixtures(const fs::path& dir) {
     std::ofstream(dir / "long.toml") << "[render]\nwidth = 4096\nheight = 4096\nsamples = 65536\n"
                                         "[[object]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\n";
     std::ofstream(dir / "empty.tif").flush();
+    // A 68-byte PNG whose header claims 30000 x 30000 16-bit samples, with 11 bytes of compressed data.
+    {
+        static const unsigned char kClaim[] = {
+            0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48, 0x44, 0x52, 0x00,
+            0x00, 0x75, 0x30, 0x00, 0x00, 0x75, 0x30, 0x10, 0x00, 0x00, 0x00, 0x00, 0x13, 0xdc, 0x7b, 0x25, 0x00,
+            0x00, 0x00, 0x0b, 0x49, 0x44, 0x41, 0x54, 0x78, 0x9c, 0x63, 0x60, 0x80, 0x01, 0x00, 0x00, 0x0a, 0x00,
+            0x01, 0x7f, 0x80, 0x74, 0x5e, 0x00, 0x00, 0x00, 0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};
+        std::ofstream(dir / "claim.png", std::ios::binary).write(reinterpret_cast<const char*>(kClaim), sizeof kClaim);
+    }
+    // A Unix socket where the DEM should be.
+    {
+        const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
+        sockaddr_un address{};
+        address.sun_family = AF_UNIX;
+        const std::string socketPath = (dir / "socket.tif").string();
+        REQUIRE(socketPath.size() < sizeof address.sun_path);
+        std::copy(socketPath.begin(), socketPath.end(), address.sun_path);
+        REQUIRE(::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0);
+        ::close(fd);
+    }
     // Deep nesting that would exhaust the TOML parser's stack.
     {
         std::string key;
@@ -182,6 +203,10 @@ TEST_CASE("Hostile inputs: DEMs that are not regular readable rasters", "[cli][h
         {"DEM links to /dev/zero", {"zero.tif", "zero.tif: expected a DEM as a regular file, found a character device"}},
         {"DEM is a link loop", {"loop-a.tif", "loop-a.tif: expected a DEM, found a loop of symbolic links"}},
         {"DEM is empty", {"empty.tif", "empty.tif: file is empty"}},
+        {"DEM is a Unix socket", {"socket.tif", "socket.tif: expected a DEM as a regular file, found a socket"}},
+        {"PNG header claims 30000^2 samples in 68 bytes",
+         {"claim.png", "claim.png: header claims 30000 x 30000 samples (1.7 GiB of pixel data), more than its 11 "
+                       "compressed bytes can hold"}},
         {"DEM is complex-valued", {"complex.tif", "band 1 holds complex numbers (CFloat32), expected real heights"}},
         {"DEM name holds a newline", {"new\nline.tif", "new\\nline.tif: no such file"}},
     };
