@@ -1,5 +1,6 @@
 // Golden-image comparison: a rendered film against a committed PNG, in the 8-bit sRGB levels it is stored in.
-// Set TERRACAST_UPDATE_GOLDEN=1 to rewrite the reference from the current render.
+// scripts/update_golden.sh rewrites the references: it runs the golden tests with TERRACAST_UPDATE_GOLDEN=1, and
+// each then writes its reference and fails, so an update is never a passing test run.
 #pragma once
 
 #include "loaders/image_io.h"
@@ -19,7 +20,10 @@ namespace terracast::testing {
 // a changed pixel here and there from compiler rounding is fine; a changed picture is not.
 inline void checkGolden(const RgbImage& image, const std::string& golden, double meanLevels = 0.5,
                         double offShare = 0.005) {
-    if (std::getenv("TERRACAST_UPDATE_GOLDEN")) writeImage(golden, image);
+    if (std::getenv("TERRACAST_UPDATE_GOLDEN")) {
+        writeImage(golden, image);
+        FAIL("rewrote " << golden << " (TERRACAST_UPDATE_GOLDEN is set); run the tests without it to check it");
+    }
     const std::string tmp = (std::filesystem::temp_directory_path() /
                              ("terracast-golden-" + std::to_string(::getpid()) + ".png")).string();
     writeImage(tmp, image);

@@ -62,21 +62,21 @@ TEST_CASE("Every sample scene parses, loads and renders", "[scene][samples]") {
     CHECK(scenes >= 6);
 }
 
-TEST_CASE("Sample scene: a lake reflects and refracts", "[scene][samples]") {
+TEST_CASE("Sample scene: a lake reflects and refracts", "[scene][samples][golden]") {
     const Rendered r = renderSample("lake", 160, 90);
     CHECK(r.stats.reflection > 0);
     CHECK(r.stats.refraction > 0);
     checkSceneGolden("lake", r);
 }
 
-TEST_CASE("Sample scene: glass and mirror spheres on terrain", "[scene][samples]") {
+TEST_CASE("Sample scene: glass and mirror spheres on terrain", "[scene][samples][golden]") {
     const Rendered r = renderSample("spheres-on-terrain", 160, 90);
     CHECK(r.stats.reflection > 0);
     CHECK(r.stats.refraction > 0);
     checkSceneGolden("spheres-on-terrain", r);
 }
 
-TEST_CASE("Sample scene: boxes and polygons pay for no refraction", "[scene][samples]") {
+TEST_CASE("Sample scene: boxes and polygons pay for no refraction", "[scene][samples][golden]") {
     const Rendered r = renderSample("boxes-and-polygons", 160, 120);
     CHECK(r.stats.refraction == 0);
     CHECK(r.stats.reflection > 0);  // the floor is slightly reflective
@@ -84,7 +84,7 @@ TEST_CASE("Sample scene: boxes and polygons pay for no refraction", "[scene][sam
     checkSceneGolden("boxes-and-polygons", r);
 }
 
-TEST_CASE("Sample scene: a summit panorama traces only primary and shadow rays", "[scene][samples]") {
+TEST_CASE("Sample scene: a summit panorama pays for no reflection, refraction or BVH", "[scene][samples][golden]") {
     const Rendered r = renderSample("summit-panorama", 180, 60);
     CHECK(r.stats.reflection == 0);
     CHECK(r.stats.refraction == 0);
@@ -93,7 +93,7 @@ TEST_CASE("Sample scene: a summit panorama traces only primary and shadow rays",
     checkSceneGolden("summit-panorama", r);
 }
 
-TEST_CASE("Sample scene: a low sun over the terrain and the sea", "[scene][samples]") {
+TEST_CASE("Sample scene: a low sun over the terrain and the sea", "[scene][samples][golden]") {
     const Rendered r = renderSample("low-sun", 160, 90);
     CHECK(r.stats.shadow > 0);
     CHECK(r.stats.reflection > 0);  // the sea
@@ -101,7 +101,7 @@ TEST_CASE("Sample scene: a low sun over the terrain and the sea", "[scene][sampl
     checkSceneGolden("low-sun", r);
 }
 
-TEST_CASE("Sample scene: depth of field, soft shadows, glossy reflection and motion blur", "[scene][samples]") {
+TEST_CASE("Sample scene: depth of field, soft shadows, glossy reflection and motion blur", "[scene][samples][golden]") {
     const Rendered r = renderSample("distribution", 160, 90);
     CHECK(r.stats.primary == 160 * 90 * 16);
     CHECK(r.stats.refraction == 0);
@@ -109,7 +109,7 @@ TEST_CASE("Sample scene: depth of field, soft shadows, glossy reflection and mot
     checkSceneGolden("distribution", r);
 }
 
-TEST_CASE("Sample scene: absorption and dispersion", "[scene][samples]") {
+TEST_CASE("Sample scene: absorption and dispersion", "[scene][samples][golden]") {
     const Rendered r = renderSample("absorption", 160, 90);
     CHECK(r.stats.refraction > 0);
     checkSceneGolden("absorption", r);

@@ -95,9 +95,10 @@ TEST_CASE("Flat terrain is lit by Lambert's cosine law plus ambient", "[tracer]"
                 CHECK(b.get(x, y)[c] - a.get(x, y)[c] == Approx(albedo[c] * sunColour[c] * dSin).epsilon(1e-4));
 }
 
-TEST_CASE("A ridge casts a shadow where the sun is below its horizon", "[tracer]") {
-    // A wall 100 m high along x = 50 m on otherwise flat ground (10 m cells). With the sun in the west
-    // at 45 degrees, ground east of the wall is shadowed out to 100 m beyond it.
+TEST_CASE("Occlusion towards the sun: a wall's shadow ends where its height over tan(elevation) says", "[tracer]") {
+    // A wall 100 m high along x = 50 m on otherwise flat ground (10 m cells; bilinear, so its flanks slope to
+    // the ground at x = 40 and 60 m). With the sun in the west at 45 degrees a probe 1 m above the ground at x
+    // sees the crest at height 1 + (x - 50): shadowed while that is below 100 m, up to x = 149 m.
     const int64_t n = 31;
     std::vector<float> z(size_t(n * n), 0.0f);
     for (int64_t j = 0; j < n; ++j) z[size_t(j * n + 5)] = 100.0f;
@@ -111,6 +112,8 @@ TEST_CASE("A ridge casts a shadow where the sun is below its horizon", "[tracer]
     };
     CHECK_FALSE(litAt(70.0));
     CHECK_FALSE(litAt(140.0));
+    CHECK_FALSE(litAt(148.9));
+    CHECK(litAt(149.1));
     CHECK(litAt(170.0));
     CHECK(litAt(30.0));
 }
