@@ -23,6 +23,9 @@ void addSceneCommand(CLI::App& app, Commands& commands) {
         app.add_subcommand("scene", "Render a TOML scene: terrain, spheres, boxes, polygons, water, mirrors, glass");
     cmd->add_option("SCENE", scene.path, "Scene file (TOML); see docs/scene-format.md")->required();
     cmd->add_option("-o,--output", scene.output, "Output image .png or .exr (overrides render.output)");
+    cmd->add_flag("--allow-paths", scene.anyPath,
+                  "Let the scene file name files outside its own folder, absolute paths and GDAL virtual or network "
+                  "paths (refused by default: a scene file may come from anyone)");
     cmd->add_option("--size", t->size, "Image size WxH (overrides render.width and render.height)");
     cmd->add_option("--spp", scene.samples, "Samples per pixel (overrides render.samples)")->check(CLI::Range(1, 65536));
     cmd->add_option("--threads", scene.threads, "Worker threads, 0 = all cores")->check(nonNegativeInteger());

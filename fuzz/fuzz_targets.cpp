@@ -59,7 +59,7 @@ private:
 void sceneFile(const uint8_t* data, size_t size) {
     const std::string_view text(reinterpret_cast<const char*>(data), size);
     // Relative file names resolve against the sample scenes' folder, so references to real DEMs also get parsed.
-    const std::string baseDir = std::string(TERRACAST_SOURCE_DIR) + "/data-samples/scenes";
+    const std::string baseDir = std::string(TERRACAST_SOURCE_DIR) + "/data-samples";
     try {
         parseSceneText(text, "fuzz.toml", baseDir);
     } catch (const InputError& e) {

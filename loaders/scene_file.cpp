@@ -38,6 +38,9 @@ namespace terracast {
 namespace {
 
 using namespace toml_reader;
+
+// The option that lets a scene file name paths outside its folder.
+constexpr const char* kAllowPathsFlag = "--allow-paths";
 // A polygon is planar when no vertex lies farther than this fraction of its bounding box's largest side from
 // its plane, and degenerate when twice its area is below this fraction of that side squared.
 constexpr double kPlanarTolerance = 1e-6;
@@ -173,7 +176,7 @@ void parseTerrainColouring(const TomlFile& scene, const TableReader& t, Material
                                                     quoteString(choiceName<TerrainColouring>(kTerrainColourings,
                                                                                              *colouring))));
         m.terrain = TerrainColouring::Drape;
-        m.drapePath = scene.resolve(*t.path("drape"));
+        m.drapePath = scene.resolveConfined(t.valueWhere("drape"), "drape", *t.path("drape"), kAllowPathsFlag);
         m.drapeWhere = t.keyWhere("drape");
         checkInputFile(t, "drape", m.drapePath);
     } else if (colouring == TerrainColouring::Drape) {
@@ -237,7 +240,7 @@ const std::vector<KeyRule> kObjectKeys{
 void parseHeightField(const TomlFile& scene, const TableReader& t, const std::string& subject,
                       ObjectDescription& o) {
     t.require("file", subject);
-    o.filePath = scene.resolve(*t.path("file"));
+    o.filePath = scene.resolveConfined(t.valueWhere("file"), "file", *t.path("file"), kAllowPathsFlag);
     o.fileWhere = t.keyWhere("file");
     checkInputFile(t, "file", o.filePath);
     if (const auto offset = t.vector3("offset")) o.offsetM = *offset;
@@ -511,7 +514,7 @@ RenderDescription parseRender(const TomlFile& scene, const TableReader& t) {
     if (const auto w = t.number("min_weight", Range{0.0, 1.0, true, false})) r.minWeight = *w;
     if (const auto s = t.integer("seed", 0, std::numeric_limits<int64_t>::max())) r.seed = static_cast<uint64_t>(*s);
     if (const auto n = t.integer("threads", 0, kMaxThreads)) r.threads = static_cast<int>(*n);
-    if (const auto o = t.path("output")) r.output = scene.resolve(*o);
+    if (const auto o = t.path("output")) r.output = scene.resolveConfined(t.valueWhere("output"), "output", *o, kAllowPathsFlag);
     if (const auto e = t.singleNumber("exposure", kPositive)) r.exposure = *e;
     return r;
 }
@@ -597,8 +600,9 @@ void forEachTable(const TomlFile& scene, const toml::table& root, std::string_vi
 
 }  // namespace
 
-SceneDescription parseSceneText(std::string_view text, const std::string& pathForMessages, const std::string& baseDir) {
-    const TomlFile scene(pathForMessages, baseDir);
+SceneDescription parseSceneText(std::string_view text, const std::string& pathForMessages, const std::string& baseDir,
+                                bool anyPath) {
+    const TomlFile scene(pathForMessages, baseDir, anyPath);
     toml::table root;
     if (text.size() > size_t(kMaxSceneFileBytes))
         scene.fail(SourceLocation{1, 1}, fmt::format("a scene file may hold at most {}, this text holds {}",
@@ -647,9 +651,9 @@ SceneDescription parseSceneText(std::string_view text, const std::string& pathFo
     return description;
 }
 
-SceneDescription loadSceneFile(const std::string& path) {
+SceneDescription loadSceneFile(const std::string& path, bool anyPath) {
     const std::string text = readTextFile(path, "a scene file", kMaxSceneFileBytes);
-    return parseSceneText(text, path, std::filesystem::path(path).parent_path().string());
+    return parseSceneText(text, path, std::filesystem::path(path).parent_path().string(), anyPath);
 }
 
 }  // namespace terracast

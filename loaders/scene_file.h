@@ -17,12 +17,15 @@ inline constexpr int64_t kMaxSceneFileBytes = int64_t(64) << 20;
 inline constexpr int kMaxSceneNesting = 64;
 
 // Reads and parses the scene file at `path`; relative paths inside it resolve against its folder. Throws
-// InputError for a missing, unreadable or invalid file.
-SceneDescription loadSceneFile(const std::string& path);
+// InputError for a missing, unreadable or invalid file. A scene file may come from anyone: unless `anyPath`,
+// the files it names (height fields, drapes, its output) must lie in its own folder, and GDAL virtual,
+// network and absolute paths are refused (docs/scene-format.md, "Paths").
+SceneDescription loadSceneFile(const std::string& path, bool anyPath = false);
 
 // Parses scene text. `pathForMessages` starts every error message; `baseDir` is the folder relative paths in
 // the scene resolve against (empty: the working directory). Throws InputError for any invalid input and
 // nothing else, whatever the bytes: this is also the entry point for fuzzing.
-SceneDescription parseSceneText(std::string_view text, const std::string& pathForMessages, const std::string& baseDir);
+SceneDescription parseSceneText(std::string_view text, const std::string& pathForMessages, const std::string& baseDir,
+                                bool anyPath = false);
 
 }  // namespace terracast

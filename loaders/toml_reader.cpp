@@ -127,6 +127,35 @@ void refuseMisspeltKey(const TableReader& table, std::span<const KeyRule> rules,
     }
 }
 
+std::string TomlFile::resolveConfined(SourceLocation where, std::string_view key, const std::string& path,
+                                     const char* flag) const {
+    if (anyPath_) return resolve(path);
+    const std::string quoted = fmt::format("\"{}\"", printable(path, std::string::npos));
+    if (path.starts_with("/vsi") || path.find("://") != std::string::npos)
+        fail(where, fmt::format("{}: {} is a GDAL virtual or network path; a scene file may name only files in its "
+                                "own folder unless {} is given",
+                                key, quoted, flag));
+    if (std::filesystem::path(path).is_absolute())
+        fail(where, fmt::format("{}: {} is an absolute path; a scene file may name only files in its own folder "
+                                "unless {} is given",
+                                key, quoted, flag));
+    const std::string resolved = resolve(path);
+    std::error_code ec;
+    const auto base = std::filesystem::weakly_canonical(baseDir_.empty() ? std::filesystem::path(".") : std::filesystem::path(baseDir_), ec);
+    const auto target = ec ? std::filesystem::path() : std::filesystem::weakly_canonical(resolved, ec);
+    const auto inside = [&] {
+        auto b = base.begin(), t = target.begin();
+        for (; b != base.end(); ++b, ++t)
+            if (t == target.end() || *b != *t) return false;
+        return t != target.end();
+    };
+    if (ec || !inside())
+        fail(where, fmt::format("{}: {} leads out of the scene file's folder{}; a scene file may name only files in "
+                                "its own folder unless {} is given",
+                                key, quoted, ec ? "" : " (to " + printable(target.string(), std::string::npos) + ")", flag));
+    return resolved;
+}
+
 std::optional<SourceLocation> findExcessiveNesting(std::string_view text, int maxDepth) {
     int line = 1, column = 0;
     int brackets = 0;   // open [ and { outside strings

@@ -100,10 +100,12 @@ constexpr Range kPositive{0.0, kInf, false, true};
 
 SourceLocation locationOf(const toml::source_region& region, SourceLocation fallback);
 
-// The TOML file being parsed: its name for messages and the folder its relative paths start from.
+// The TOML file being parsed: its name for messages, the folder its relative paths start from, and whether
+// its paths may lead anywhere (see resolveConfined).
 class TomlFile {
 public:
-    TomlFile(std::string path, std::string baseDir) : path_(std::move(path)), baseDir_(std::move(baseDir)) {}
+    TomlFile(std::string path, std::string baseDir, bool anyPath = false)
+        : path_(std::move(path)), baseDir_(std::move(baseDir)), anyPath_(anyPath) {}
 
     [[noreturn]] void fail(SourceLocation where, const std::string& message) const {
         throw InputError(fmt::format("{}:{}:{}: {}", path_, where.line, where.column, message));
@@ -117,9 +119,18 @@ public:
         return (std::filesystem::path(baseDir_) / p).lexically_normal().string();
     }
 
+    // A path the file names for `key` (at `where`), resolved as above and confined to the file's folder unless
+    // any path is allowed: GDAL virtual and network paths and absolute paths are refused, and so is a relative
+    // path that leads out of the folder (after "..", and symbolic links, are followed). A file from elsewhere
+    // may then neither read nor write outside its own folder, nor reach a network. `flag` names the option
+    // that lifts the rule.
+    std::string resolveConfined(SourceLocation where, std::string_view key, const std::string& path,
+                                const char* flag) const;
+
 private:
     std::string path_;
     std::string baseDir_;
+    bool anyPath_ = false;
 };
 
 // A keyword accepted by a key, and the value it stands for.

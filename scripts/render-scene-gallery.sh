@@ -3,7 +3,7 @@
 # after building).
 set -eu
 mkdir -p docs/scenes
-for scene in data-samples/scenes/*.toml; do
+for scene in data-samples/*.toml; do
     name=$(basename "$scene" .toml)
     size=480x270
     [ "$name" = summit-panorama ] && size=960x320

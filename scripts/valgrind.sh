@@ -29,5 +29,5 @@ check() {
 
 check render render "$here/data-samples/usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif" \
   -o "$out/render.png" --size 48x32 --threads 1 -q
-check scene scene "$here/data-samples/scenes/spheres-on-terrain.toml" -o "$out/scene.png" --size 48x32 --threads 1 -q
+check scene scene "$here/data-samples/spheres-on-terrain.toml" -o "$out/scene.png" --size 48x32 --threads 1 -q
 [ -s "$out/render.png" ] && [ -s "$out/scene.png" ]

@@ -298,7 +298,7 @@ TEST_CASE("Bad output: a full disk fails the write with exit 1 and leaves nothin
     expectRefused(dir, "render '" + kStHelens + "' -o '" + out.string() + "' --size 32x24 --threads 1", 1,
                   out.string() + ": cannot write (No space left on device)");
     expectRefused(dir,
-                  "scene '" + kSamples + "scenes/boxes-and-polygons.toml' -o '" + out.string() +
+                  "scene '" + kSamples + "boxes-and-polygons.toml' -o '" + out.string() +
                       "' --size 32x24 --threads 1 -q",
                   1, out.string() + ": cannot write (No space left on device)");
     CHECK(fs::is_symlink(out));

@@ -59,6 +59,26 @@ void makeFixtures(const fs::path& dir) {
     fs::create_symlink("dem.tif", dir / "alias.tif");
     fs::create_hard_link(dir / "dem.tif", dir / "hard.tif");
     fs::create_hard_link(dir / "dem.tif", dir / "bilinear.png");
+    // Scene files that name paths out of their folder, absolute, virtual or on a network.
+    {
+        const auto heightField = [](const std::string& file) {
+            return "[[object]]\ntype = \"heightfield\"\nfile = \"" + file + "\"\n";
+        };
+        const std::string ball = "[[object]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\n";
+        fs::create_symlink("/etc/hostname", dir / "out-link.tif");
+        std::ofstream(dir / "escape-dotdot.toml") << heightField("../dem.tif");
+        std::ofstream(dir / "escape-absolute.toml") << heightField("/etc/hostname");
+        std::ofstream(dir / "escape-link.toml") << heightField("out-link.tif");
+        std::ofstream(dir / "network.toml") << heightField("/vsicurl/http://127.0.0.1:9/dem.tif");
+        std::ofstream(dir / "https.toml") << heightField("https://example.com/dem.tif");
+        std::ofstream(dir / "archive.toml") << heightField("/vsizip/dems.zip/dem.tif");
+        std::ofstream(dir / "drape-absolute.toml") << "[[material]]\nname = \"m\"\ndrape = \"/etc/hostname\"\n";
+        std::ofstream(dir / "output-absolute.toml") << ball << "[render]\noutput = \"/tmp/terracast-replaced.png\"\n";
+        std::ofstream(dir / "output-dotdot.toml") << ball << "[render]\noutput = \"../replaced.png\"\n";
+        std::ofstream(dir / "inside.toml") << heightField("dem.tif");
+        std::ofstream(dir / "trusted.toml") << heightField(kStHelens);
+        fs::create_symlink("/dev/null", dir / "null.png");
+    }
     // A scene that would run for hours.
     std::ofstream(dir / "long.toml") << "[render]\nwidth = 4096\nheight = 4096\nsamples = 65536\n"
                                         "[[object]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\n";
@@ -234,6 +254,27 @@ TEST_CASE("Hostile inputs: scene files that are not regular or nest too deep", "
               {"scene: inline tables 20,000 levels deep", {"scene", "deep-inline.toml"}, 2,
                "nest more than 64 levels deep here"},
               {"scene: a 64 MiB file", {"scene", "huge.toml"}, 2, "huge.toml: 67108865 bytes, more than the 67108864 (64.0 MiB) allowed for a scene file"}});
+}
+
+TEST_CASE("Hostile scene files: paths out of their folder, absolute, virtual or on a network", "[cli][hostile]") {
+    const std::string rule = "a scene file may name only files in its own folder unless --allow-paths is given";
+    runCases("scene-paths",
+             {{"scene naming ../dem.tif", {"scene", "escape-dotdot.toml"}, 2,
+               "escape-dotdot.toml:3:8: file: \"../dem.tif\" leads out of the scene file's folder (to /tmp/dem.tif); " + rule},
+              {"scene naming /etc/hostname", {"scene", "escape-absolute.toml"}, 2,
+               "escape-absolute.toml:3:8: file: \"/etc/hostname\" is an absolute path; " + rule},
+              {"scene naming a link out of its folder", {"scene", "escape-link.toml"}, 2,
+               "escape-link.toml:3:8: file: \"out-link.tif\" leads out of the scene file's folder (to /etc/hostname); " + rule},
+              {"scene naming a /vsicurl/ path", {"scene", "network.toml"}, 2, "is a GDAL virtual or network path; " + rule},
+              {"scene naming an https:// URL", {"scene", "https.toml"}, 2, "is a GDAL virtual or network path; " + rule},
+              {"scene naming a /vsizip/ archive", {"scene", "archive.toml"}, 2, "is a GDAL virtual or network path; " + rule},
+              {"scene draping /etc/hostname", {"scene", "drape-absolute.toml"}, 2, "drape: \"/etc/hostname\" is an absolute path"},
+              {"scene writing to an absolute path", {"scene", "output-absolute.toml"}, 2,
+               "output: \"/tmp/terracast-replaced.png\" is an absolute path"},
+              {"scene writing to ../replaced.png", {"scene", "output-dotdot.toml"}, 2, "output: \"../replaced.png\" leads out"},
+              {"scene naming its folder's DEM", {"scene", "inside.toml", "-o", "null.png", "--size", "16x9"}, 0, "rendered null.png"},
+              {"scene naming a DEM elsewhere, with --allow-paths", {"scene", "trusted.toml", "--allow-paths", "-o", "null.png", "--size", "16x9"},
+               0, "rendered null.png"}});
 }
 
 TEST_CASE("Hostile inputs: non-finite and absurd numbers in options", "[cli][hostile]") {

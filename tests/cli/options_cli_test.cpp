@@ -15,7 +15,7 @@ namespace fs = std::filesystem;
 namespace {
 const std::string kDem =
     std::string(TERRACAST_SOURCE_DIR) + "/data-samples/landfire-storm-lake-mt-utm12n-int16-small-nodata.tif";
-const std::string kScene = std::string(TERRACAST_SOURCE_DIR) + "/data-samples/scenes/boxes-and-polygons.toml";
+const std::string kScene = std::string(TERRACAST_SOURCE_DIR) + "/data-samples/boxes-and-polygons.toml";
 }  // namespace
 
 TEST_CASE("CLI: --quiet leaves stderr empty, and without it one summary line ends the job", "[cli]") {

@@ -25,7 +25,7 @@ using namespace terracast::testing;
 namespace fs = std::filesystem;
 
 namespace {
-const std::string kScenes = std::string(TERRACAST_SOURCE_DIR) + "/data-samples/scenes/";
+const std::string kScenes = std::string(TERRACAST_SOURCE_DIR) + "/data-samples/";
 }
 
 TEST_CASE("CLI: scene renders a sample scene and reports rays by kind", "[cli][scene]") {

@@ -90,7 +90,8 @@ TEST_CASE("CLI: a scene's sun time agrees with render's for the same DEM and ins
     const std::string scene = (dir.path() / "timed.toml").string();
     std::ofstream(scene) << "[[object]]\ntype = \"heightfield\"\nfile = \"" << kStHelens
                          << "\"\n\n[[light]]\ntype = \"sun\"\ntime = 2026-12-21T16:00:00Z\n";
-    const auto s = runTerracast("scene '" + scene + "' -o '" + (dir.path() / "s.png").string() + "' --size 32x18");
+    const auto s = runTerracast("scene '" + scene + "' -o '" + (dir.path() / "s.png").string() +
+                                "' --size 32x18 --allow-paths");
     const auto r = runTerracast("render '" + kStHelens + "' -o '" + (dir.path() / "r.png").string() +
                                 "' --size 32x18 --sun-time 2026-12-21T16:00Z");
     INFO(s.err << r.err);

@@ -257,22 +257,59 @@ TEST_CASE("Scene file: paths resolve against the scene file's folder", "[loaders
                              << "[[object]]\ntype = \"heightfield\"\nfile = \"../dems/dem.tif\"\n"
                              << "[render]\noutput = \"pictures/valley.png\"\n";
 
-    const SceneDescription s = loadSceneFile(scenePath);
+    // With any path allowed (terracast scene --allow-paths).
+    const SceneDescription s = loadSceneFile(scenePath, true);
     CHECK(s.path == scenePath);
     CHECK(s.objects.at(0).filePath == (root.path() / "dems" / "dem.tif").string());
     CHECK(s.materials.at(0).drapePath == absoluteDrape);  // absolute paths stay as they are
     CHECK(s.render.output == (root.path() / "scenes" / "pictures" / "valley.png").string());
 
     // Without a base folder, relative paths are left relative to the working directory.
-    const SceneDescription here = parseSceneText("[render]\noutput = \"a/b.png\"\n", "scene.toml", "");
+    const SceneDescription here = parseSceneText("[render]\noutput = \"a/b.png\"\n", "scene.toml", "", true);
     CHECK(here.render.output == "a/b.png");
 
     // The same scene seen from its parent folder does not find the DEM, and says where it looked.
     const std::string moved = root.file("valley.toml");
     fs::copy_file(scenePath, moved);
-    CHECK_THROWS_WITH(loadSceneFile(moved),
+    CHECK_THROWS_WITH(loadSceneFile(moved, true),
                       moved + ":6:1: file: " + (root.path().parent_path() / "dems" / "dem.tif").string() +
                           ": no such file");
+}
+
+TEST_CASE("Scene file: by default its paths stay in its folder, and name no network", "[loaders]") {
+    const TempDir root("scene-confined");
+    fs::create_directories(root.path() / "scene" / "dems");
+    std::ofstream(root.file("outside.tif")) << "x";
+    std::ofstream(root.file("scene/dems/dem.tif")) << "x";
+    fs::create_symlink("../outside.tif", root.path() / "scene" / "link.tif");
+    fs::create_symlink("dems/dem.tif", root.path() / "scene" / "inner-link.tif");
+    const std::string folder = root.file("scene");
+    const auto load = [&](const std::string& text) {
+        std::ofstream(root.file("scene/s.toml")) << text;
+        return loadSceneFile(root.file("scene/s.toml"));
+    };
+    const auto object = [](const std::string& file) { return "[[object]]\ntype = \"heightfield\"\nfile = \"" + file + "\"\n"; };
+    // Inside the folder, directly, through a subfolder's "..", or through a link that stays inside.
+    CHECK(load(object("dems/dem.tif")).objects.at(0).filePath == folder + "/dems/dem.tif");
+    CHECK_NOTHROW(load(object("dems/../dems/dem.tif")));
+    CHECK_NOTHROW(load(object("inner-link.tif")));
+    CHECK(load("[render]\noutput = \"pictures/out.png\"\n").render.output == folder + "/pictures/out.png");
+    const std::string rule = "a scene file may name only files in its own folder unless --allow-paths is given";
+    const std::string s = root.file("scene/s.toml");
+    CHECK_THROWS_WITH(load(object("../outside.tif")),
+                      s + ":3:8: file: \"../outside.tif\" leads out of the scene file's folder (to " +
+                          root.file("outside.tif") + "); " + rule);
+    CHECK_THROWS_WITH(load(object("link.tif")), Catch::Contains("\"link.tif\" leads out of the scene file's folder"));
+    CHECK_THROWS_WITH(load(object(root.file("outside.tif"))),
+                      s + ":3:8: file: \"" + root.file("outside.tif") + "\" is an absolute path; " + rule);
+    CHECK_THROWS_WITH(load(object("/vsicurl/https://example.com/dem.tif")),
+                      Catch::Contains("is a GDAL virtual or network path; " + rule));
+    CHECK_THROWS_WITH(load(object("https://example.com/dem.tif")), Catch::Contains("GDAL virtual or network path"));
+    CHECK_THROWS_WITH(load("[[material]]\nname = \"m\"\ndrape = \"../outside.tif\"\n"),
+                      Catch::Contains("drape: \"../outside.tif\" leads out"));
+    CHECK_THROWS_WITH(load("[render]\noutput = \"/tmp/replaced.png\"\n"),
+                      Catch::Contains("output: \"/tmp/replaced.png\" is an absolute path"));
+    CHECK_THROWS_WITH(load("[render]\noutput = \"../replaced.png\"\n"), Catch::Contains("output: \"../replaced.png\" leads out"));
 }
 
 TEST_CASE("Scene file: the examples of docs/scene-format.md together form a valid scene", "[loaders]") {

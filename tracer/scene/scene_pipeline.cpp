@@ -54,7 +54,7 @@ std::string formatRayTree(int x, int y, const std::vector<RayRecord>& tree) {
 }
 
 void renderSceneFile(const SceneRunOptions& o, const RunListener& listener) {
-    SceneDescription d = loadSceneFile(o.path);
+    SceneDescription d = loadSceneFile(o.path, o.anyPath);
     RenderDescription& r = d.render;
     if (!o.output.empty()) r.output = o.output;
     if (o.width > 0) r.width = o.width;

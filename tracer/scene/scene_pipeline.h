@@ -24,6 +24,7 @@ SceneRenderSettings sceneRenderSettings(const RenderDescription& render);
 struct SceneRunOptions {
     std::string path;                          // the scene file
     std::string output;                        // overrides render.output
+    bool anyPath = false;                      // the file may name paths outside its folder (--allow-paths)
     int width = 0, height = 0;                 // override render.width/height when > 0
     int samples = 0;                           // overrides render.samples when > 0
     int threads = -1;                          // overrides render.threads when >= 0

@@ -1,4 +1,4 @@
-// The sample scenes in data-samples/scenes: each renders at a small size against its golden image, and each
+// The sample scenes in data-samples (*.toml): each renders at a small size against its golden image, and each
 // traces only the ray kinds its content calls for.
 #include "loaders/scene_assets.h"
 #include "loaders/scene_file.h"
@@ -22,7 +22,7 @@ struct Rendered {
 };
 
 Rendered renderSample(const std::string& name, int width, int height) {
-    const std::string path = std::string(TERRACAST_SOURCE_DIR) + "/data-samples/scenes/" + name + ".toml";
+    const std::string path = std::string(TERRACAST_SOURCE_DIR) + "/data-samples/" + name + ".toml";
     const SceneDescription d = loadSceneFile(path);
     const LoadedSceneAssets loaded = loadSceneAssets(d);
     const Scene scene(d, loaded.assets);
@@ -48,7 +48,7 @@ void checkSceneGolden(const std::string& name, const Rendered& r) {
 
 TEST_CASE("Every sample scene parses, loads and renders", "[scene][samples]") {
     int scenes = 0;
-    for (const auto& entry : std::filesystem::directory_iterator(std::string(TERRACAST_SOURCE_DIR) + "/data-samples/scenes")) {
+    for (const auto& entry : std::filesystem::directory_iterator(std::string(TERRACAST_SOURCE_DIR) + "/data-samples")) {
         if (entry.path().extension() != ".toml") continue;
         ++scenes;
         INFO(entry.path().string());
