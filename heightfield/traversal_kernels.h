@@ -187,7 +187,7 @@ struct Walk {
     double exitX(int64_t c) const { return tAtX(c + exitOffX); }
     double exitY(int64_t c) const { return tAtY(c + exitOffY); }
 
-    // Clips [ta, tb] to the slab lo <= o + t d <= hi, as clipToSlab does but with the reciprocal.
+    // Clips [ta, tb] to the slab lo <= o + t d <= hi, with the direction's reciprocal.
     static bool clip(double o, bool moves, double invD, double lo, double hi, double& ta, double& tb) {
         if (!moves) return lo <= o && o <= hi;
         const double tl = (lo - o) * invD, th = (hi - o) * invD;

@@ -1,175 +1,169 @@
-// The DDA walk against a brute-force reference: dense sampling of the segment in double precision.
-#include "heightfield/dda.h"
+// The tracer's own cell walk (traversal.cpp: the DDA of Amanatides & Woo interleaved with the pyramid) against a
+// brute-force reference. The walk is observed through occlusion: in a grid of holes (nodata vertices) only one
+// cell has four valid corners, flat at height 1, and the terrain counts as solid: a horizontal ray at z = 0.6 is
+// blocked exactly when the walk reaches that cell. The verdict is compared with dense sampling of the ray's
+// footprint in double precision, for both traversals (flat, and through the pyramid), with the default cell
+// method.
+#include "heightfield/traversal.h"
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
 #include <random>
-#include <set>
+#include <string>
+#include <tuple>
 #include <vector>
 
 using namespace terracast;
 
 namespace {
 
-constexpr double kTol = 1e-9;  // points this close to a cell boundary may be credited to either side
+constexpr double kTol = 1e-7;  // footprints this close to a cell's boundary may be credited to either side
+constexpr double kRayZ = 0.6;
 
-struct Walk {
-    std::vector<CellVisit> visits;
-};
-
-Walk walk(int64_t cx, int64_t cy, glm::dvec2 o, glm::dvec2 d, double t0, double t1) {
-    Walk w;
-    walkCells(cx, cy, o, d, t0, t1, [&](const CellVisit& v) {
-        w.visits.push_back(v);
-        return false;
-    });
-    return w;
+// A cx x cy cell grid (unit cells, cx >= 2) of holes but for cell (ti, tj), flat at height 1. One more valid
+// vertex, at height 0 and in no valid cell, brings the grid's height range down to 0, so that the ray at 0.6 lies
+// within the terrain's bounding box.
+HeightGrid raisedCell(int64_t cx, int64_t cy, int64_t ti, int64_t tj) {
+    std::vector<float> z(size_t((cx + 1) * (cy + 1)), 1.0f);
+    std::vector<uint8_t> valid(z.size(), 0);
+    for (int64_t dj = 0; dj <= 1; ++dj)
+        for (int64_t di = 0; di <= 1; ++di) valid[size_t((tj + dj) * (cx + 1) + ti + di)] = 1;
+    const size_t low = ti == 0 ? size_t(cx) : 0;  // vertex (cx, 0) or (0, 0): not a corner of the cell
+    valid[low] = 1;
+    z[low] = 0.0f;
+    return HeightGrid(cx + 1, cy + 1, 1.0, 1.0, z, valid);
 }
 
-// Checks one walk against the brute-force reference; returns an empty string or a failure description.
-std::string checkWalk(int64_t cx, int64_t cy, glm::dvec2 o, glm::dvec2 d, double t0, double t1) {
-    const Walk w = walk(cx, cy, o, d, t0, t1);
-    // Clip the segment to the footprint, exactly as a reference would (independent code).
+enum class Crossing { Yes, No, Unsure };
+
+// Whether o + t d, t in [t0, t1], passes through the open cell (ti, tj): the stretch of the parameter inside the
+// cell's square, found per axis; Unsure when the answer hangs on less than kTol.
+Crossing crosses(glm::dvec2 o, glm::dvec2 d, double t0, double t1, int64_t ti, int64_t tj) {
     double a = t0, b = t1;
-    auto clip = [&](double oo, double dd, double hi) {
-        if (dd == 0) return -kTol <= oo && oo <= hi + kTol;
-        double ta = (0 - oo) / dd, tb = (hi - oo) / dd;
+    bool near = false;
+    for (int axis = 0; axis < 2; ++axis) {
+        const double oo = axis == 0 ? o.x : o.y, dd = axis == 0 ? d.x : d.y, lo = double(axis == 0 ? ti : tj);
+        if (dd == 0.0) {
+            if (oo <= lo - kTol || oo >= lo + 1 + kTol) return Crossing::No;
+            if (oo < lo + kTol || oo > lo + 1 - kTol) near = true;
+            continue;
+        }
+        double ta = (lo - oo) / dd, tb = (lo + 1 - oo) / dd;
         if (ta > tb) std::swap(ta, tb);
         a = std::max(a, ta);
         b = std::min(b, tb);
-        return a <= b;
-    };
-    const bool overlaps = clip(o.x, d.x, double(cx)) && clip(o.y, d.y, double(cy));
+    }
+    const double length = (b - a) * std::hypot(d.x, d.y);
+    if (length > kTol) return near ? Crossing::Unsure : Crossing::Yes;
+    return length < -kTol ? Crossing::No : Crossing::Unsure;
+}
 
-    std::set<std::pair<int64_t, int64_t>> visited;
-    for (size_t k = 0; k < w.visits.size(); ++k) {
-        const auto& v = w.visits[k];
-        if (!visited.insert({v.i, v.j}).second) return "cell visited twice";
-        if (v.i < 0 || v.j < 0 || v.i >= cx || v.j >= cy) return "cell outside the grid";
-        if (v.tExit < v.tEnter) return "segment runs backwards";
-        if (k > 0) {
-            const auto& p = w.visits[k - 1];
-            const auto step = std::abs(v.i - p.i) + std::abs(v.j - p.j);
-            if (step != 1) return "consecutive cells are not neighbours";
-            if (v.tEnter != p.tExit) return "segments are not contiguous";
+struct Probe {
+    int64_t cx, cy, ti, tj;
+    glm::dvec2 o, d;
+    double t0, t1;
+};
+
+bool blockedBy(const Probe& p, Traversal traversal) {
+    const HeightGrid g = raisedCell(p.cx, p.cy, p.ti, p.tj);
+    return occluded(g, Ray{{p.o.x, p.o.y, kRayZ}, {p.d.x, p.d.y, 0.0}}, {p.t0, p.t1}, CellMethod::Bilinear, nullptr,
+                    traversal);
+}
+
+// Runs `count` random horizontal rays over random grids; returns the first disagreement, or "".
+enum class Rays { Random, OnGridLines, FromGridLines };
+
+std::string sweep(int count, uint64_t seed, Rays kind, Traversal traversal, int& checked) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> U(-4.0, 24.0), D(-1.0, 1.0);
+    std::uniform_int_distribution<int> L(-1, 20), S(-3, 3);
+    for (int k = 0; k < count; ++k) {
+        Probe p;
+        p.cx = 2 + k % 16;
+        p.cy = 1 + (k / 17) % 13;
+        p.ti = int64_t(rng() % uint64_t(p.cx));
+        p.tj = int64_t(rng() % uint64_t(p.cy));
+        p.o = {U(rng), U(rng)};
+        p.d = {D(rng), D(rng)};
+        if (kind == Rays::OnGridLines) {
+            // Along a grid line, or through grid vertices with rational slopes.
+            if (k % 2 == 0) {
+                p.o = k % 4 == 0 ? glm::dvec2{U(rng), double(L(rng))} : glm::dvec2{double(L(rng)), U(rng)};
+                p.d = k % 4 == 0 ? glm::dvec2{D(rng) < 0 ? -0.7 : 0.7, 0.0} : glm::dvec2{0.0, D(rng) < 0 ? -1.3 : 1.3};
+            } else {
+                p.d = {double(S(rng)), double(S(rng))};
+                if (p.d == glm::dvec2(0.0)) p.d = {1.0, 2.0};
+                p.o = glm::dvec2{double(L(rng)), double(L(rng))} - 5.0 * p.d;
+            }
         }
-        // The segment must touch the visited cell (within the tolerance).
-        double ca = v.tEnter, cb = v.tExit;
-        const double mid = 0.5 * (ca + cb);
-        const glm::dvec2 pm = o + mid * d;
-        if (pm.x < v.i - kTol * 10 - 1e-12 * std::abs(pm.x) || pm.x > v.i + 1 + kTol * 10 ||
-            pm.y < v.j - kTol * 10 || pm.y > v.j + 1 + kTol * 10)
-            return "visited cell does not contain its segment";
-    }
-    if (!overlaps) return w.visits.empty() ? "" : "walk of a ray that misses the grid";
-    if (w.visits.empty()) {
-        // Acceptable only when the ray merely grazes the footprint's border.
-        const glm::dvec2 p = o + 0.5 * (a + b) * d;
-        const bool onBorder = std::abs(p.x) < kTol || std::abs(p.y) < kTol || std::abs(p.x - cx) < kTol ||
-                              std::abs(p.y - cy) < kTol;
-        return onBorder ? "" : "no cell visited for a ray crossing the grid";
-    }
-    // Every sample strictly inside a cell must lie in a visited cell.
-    const int samples = 64 * int(cx + cy) + 16;
-    for (int s = 0; s <= samples; ++s) {
-        const double t = a + (b - a) * s / samples;
-        const glm::dvec2 p = o + t * d;
-        const double fx = std::floor(p.x), fy = std::floor(p.y);
-        if (p.x - fx < kTol || fx + 1 - p.x < kTol || p.y - fy < kTol || fy + 1 - p.y < kTol) continue;
-        const auto i = int64_t(fx), j = int64_t(fy);
-        if (i < 0 || j < 0 || i >= cx || j >= cy) continue;
-        if (!visited.count({i, j})) return "sampled cell (" + std::to_string(i) + "," + std::to_string(j) + ") missed";
+        if (p.d == glm::dvec2(0.0)) continue;
+        p.t0 = std::abs(D(rng)) * 3.0;
+        p.t1 = p.t0 + std::abs(D(rng)) * 60.0;
+        if (kind == Rays::FromGridLines) {
+            // Starting exactly on a grid line (or at a vertex) inside the grid, and crossing it.
+            p.o = {k % 3 == 1 ? U(rng) * 0.5 : double(1 + int64_t(rng() % uint64_t(p.cx))),
+                   k % 3 == 0 ? U(rng) * 0.5 : double(1 + int64_t(rng() % uint64_t(p.cy)))};
+            p.t0 = 0.0;
+        }
+        const Crossing expected = crosses(p.o, p.d, p.t0, p.t1, p.ti, p.tj);
+        if (expected == Crossing::Unsure) continue;
+        const bool blocked = blockedBy(p, traversal);
+        ++checked;
+        if (blocked != (expected == Crossing::Yes))
+            return "ray " + std::to_string(k) + ": grid " + std::to_string(p.cx) + "x" + std::to_string(p.cy) +
+                   ", cell (" + std::to_string(p.ti) + "," + std::to_string(p.tj) + "), o (" + std::to_string(p.o.x) +
+                   ", " + std::to_string(p.o.y) + "), d (" + std::to_string(p.d.x) + ", " + std::to_string(p.d.y) +
+                   "), t " + std::to_string(p.t0) + " .. " + std::to_string(p.t1) + ": " +
+                   (blocked ? "blocked but not crossed" : "crossed but not blocked");
     }
     return "";
 }
 
 }  // namespace
 
-TEST_CASE("DDA visits exactly the cells a dense sampling finds, for 10^5 random rays", "[heightfield][dda]") {
-    std::mt19937_64 rng(12345);
-    std::uniform_real_distribution<double> U(-4.0, 24.0);
-    std::uniform_real_distribution<double> D(-1.0, 1.0);
-    int failures = 0;
-    std::string first;
-    for (int k = 0; k < 100000; ++k) {
-        const int64_t cx = 1 + k % 17, cy = 1 + (k / 17) % 13;
-        const glm::dvec2 o{U(rng), U(rng)};
-        glm::dvec2 d{D(rng), D(rng)};
-        const double t0 = D(rng) * 5.0, t1 = t0 + std::abs(D(rng)) * 60.0;
-        const std::string r = checkWalk(cx, cy, o, d, t0, t1);
-        if (!r.empty() && failures++ == 0) first = r;
-    }
-    INFO(first);
-    CHECK(failures == 0);
-}
-
-TEST_CASE("DDA handles axis-parallel and vertical rays, and rays along edges", "[heightfield][dda]") {
-    std::mt19937_64 rng(7);
-    std::uniform_real_distribution<double> U(-2.0, 12.0);
-    std::uniform_int_distribution<int> I(-1, 11);
-    for (int k = 0; k < 20000; ++k) {
-        const bool onLine = k % 2 == 0;  // origin exactly on a grid line
-        const double across = onLine ? double(I(rng)) : U(rng);
-        const double along = U(rng);
-        const double s = (k % 4 < 2) ? 1.0 : -1.0;
-        INFO("ray " << k);
-        REQUIRE(checkWalk(10, 10, {along, across}, {s * 0.7, 0.0}, -30.0, 30.0).empty());  // d.y = 0
-        REQUIRE(checkWalk(10, 10, {across, along}, {0.0, s * 1.3}, -30.0, 30.0).empty());  // d.x = 0
-    }
-    // Vertical rays: one cell, the whole interval.
-    const Walk w = walk(10, 10, {3.5, 4.25}, {0.0, 0.0}, -1.0, 2.0);
-    REQUIRE(w.visits.size() == 1);
-    CHECK(w.visits[0].i == 3);
-    CHECK(w.visits[0].j == 4);
-    CHECK(w.visits[0].tEnter == -1.0);
-    CHECK(w.visits[0].tExit == 2.0);
-    // A vertical ray outside the footprint visits nothing.
-    CHECK(walk(10, 10, {-0.5, 4.0}, {0.0, 0.0}, 0.0, 1.0).visits.empty());
-}
-
-TEST_CASE("DDA through grid vertices and out through a corner", "[heightfield][dda]") {
-    // The diagonal of a square grid passes through every vertex (i, i).
-    const Walk diag = walk(8, 8, {0.0, 0.0}, {1.0, 1.0}, 0.0, 100.0);
-    REQUIRE(checkWalk(8, 8, {0.0, 0.0}, {1.0, 1.0}, 0.0, 100.0).empty());
-    // It crosses the 8 diagonal cells plus one zero-length corner cell between each pair.
-    CHECK(diag.visits.size() == 8 + 7);
-    CHECK(diag.visits.front().i == 0);
-    CHECK(diag.visits.back().i == 7);
-    CHECK(diag.visits.back().j == 7);
-    CHECK(diag.visits.back().tExit == Approx(8.0));
-    // Reverse direction, leaving through the corner (0, 0).
-    const Walk back = walk(8, 8, {8.0, 8.0}, {-1.0, -1.0}, 0.0, 100.0);
-    CHECK(back.visits.front().i == 7);
-    CHECK(back.visits.back().i == 0);
-    CHECK(back.visits.back().j == 0);
-    // Random rays through random vertices with rational slopes.
-    std::mt19937_64 rng(99);
-    std::uniform_int_distribution<int> V(0, 12), S(-3, 3);
-    for (int k = 0; k < 20000; ++k) {
-        const glm::dvec2 vtx{double(V(rng)), double(V(rng))};
-        glm::dvec2 d{double(S(rng)), double(S(rng))};
-        if (d == glm::dvec2(0.0)) d = {1.0, 2.0};
-        const glm::dvec2 o = vtx - 5.0 * d;
-        INFO("ray " << k);
-        REQUIRE(checkWalk(12, 12, o, d, -10.0, 10.0).empty());
+TEST_CASE("Cell walk: a ray is stopped by exactly the cells exact clipping finds, 10^5 random rays", "[heightfield][dda]") {
+    for (const Traversal traversal : {Traversal::Flat, Traversal::Pyramid}) {
+        int checked = 0;
+        const std::string first = sweep(100000, 12345, Rays::Random, traversal, checked);
+        INFO((traversal == Traversal::Flat ? "flat: " : "pyramid: ") << first);
+        CHECK(first.empty());
+        CHECK(checked > 95000);
     }
 }
 
-TEST_CASE("DDA boundaries come from integer indices: no drift over a long walk", "[heightfield][dda]") {
-    // A shallow ray over 65536 cells: every boundary crossing t must match (k - o) / d exactly.
+TEST_CASE("Cell walk: rays along grid lines and through grid vertices", "[heightfield][dda]") {
+    for (const Traversal traversal : {Traversal::Flat, Traversal::Pyramid}) {
+        int checked = 0;
+        const std::string first = sweep(40000, 7, Rays::OnGridLines, traversal, checked);
+        INFO((traversal == Traversal::Flat ? "flat: " : "pyramid: ") << first);
+        CHECK(first.empty());
+        CHECK(checked > 10000);
+    }
+}
+
+TEST_CASE("Cell walk: rays that start on a grid line or at a vertex", "[heightfield][dda]") {
+    for (const Traversal traversal : {Traversal::Flat, Traversal::Pyramid}) {
+        int checked = 0;
+        const std::string first = sweep(40000, 99, Rays::FromGridLines, traversal, checked);
+        INFO((traversal == Traversal::Flat ? "flat: " : "pyramid: ") << first);
+        CHECK(first.empty());
+        CHECK(checked > 30000);
+    }
+}
+
+TEST_CASE("Cell walk: a shallow ray over 65536 cells changes row where it should", "[heightfield][dda]") {
+    // Boundaries come from integer indices, not accumulated steps: the walk neither drifts into the next row
+    // nor stops short over a long run. The ray rises 1/70000 per cell from y = 0.3 and crosses into row 1 at
+    // x = 0.1 + 0.7 * 70000 = 49000.1.
     const int64_t n = 65536;
-    const glm::dvec2 o{0.1, 0.3};
-    const glm::dvec2 d{1.0, 1.0 / 70000.0};
-    int64_t checked = 0;
-    bool exact = true;
-    walkCells(n, 2, o, d, 0.0, 1e9, [&](const CellVisit& v) {
-        if (v.entry == CellSide::XLow) {
-            exact = exact && v.tEnter == (double(v.i) - o.x) / d.x;
-            ++checked;
+    const glm::dvec2 o{0.1, 0.3}, d{1.0, 1.0 / 70000.0};
+    for (const auto& [cell, row, expected] : {std::tuple{int64_t(48999), int64_t(0), true}, {int64_t(49001), int64_t(0), false},
+                                              {int64_t(49000), int64_t(1), true}, {int64_t(48999), int64_t(1), false},
+                                              {n - 1, int64_t(1), true}}) {
+        for (const Traversal traversal : {Traversal::Flat, Traversal::Pyramid}) {
+            INFO("cell " << cell << ", row " << row << (traversal == Traversal::Flat ? ", flat" : ", pyramid"));
+            CHECK(blockedBy(Probe{n, 2, cell, row, o, d, 0.0, 1e9}, traversal) == expected);
         }
-        return false;
-    });
-    CHECK(exact);
-    CHECK(checked == n - 1);
+    }
 }
