@@ -9,10 +9,18 @@
 #include <stdexcept>
 #include <string>
 
+#ifdef TERRACAST_IMAGE_CODEC_LINKED
+extern "C" const terracast::image_codec::Api* terracastImageCodec();
+#endif
+
 namespace terracast::image_codec {
 
 namespace {
 
+#ifdef TERRACAST_IMAGE_CODEC_LINKED
+// Sanitized builds link the codec in (loaders/CMakeLists.txt says why).
+const Api* load() { return terracastImageCodec(); }
+#else
 // Where the module is: TERRACAST_IMAGE_CODEC, else the build's own (when it is still there), else beside the
 // executable.
 std::string modulePath() {
@@ -37,6 +45,7 @@ const Api* load() {
     if (!entry) throw std::runtime_error("the image codec module " + path + " has no terracastImageCodec entry");
     return entry();  // the module stays loaded for the life of the process
 }
+#endif
 
 }  // namespace
 

@@ -10,9 +10,6 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 seconds=${1:-60}
 build=$(cd "${2:-build-fuzz}" && pwd)
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1}"
-# As .ci/run: TLS is not scanned (LeakSanitizer's tracer crashes on glibc 2.36's dynamic TLS), the loader's own
-# blocks are suppressed.
-export LSAN_OPTIONS="${LSAN_OPTIONS:-use_tls=0:print_suppressions=0:suppressions=$(cd "$(dirname "$0")/.." && pwd)/.ci/lsan.supp}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}"
 targets="scene_file dem_loader cell_intersector"
 for target in $targets; do

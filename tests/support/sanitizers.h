@@ -6,11 +6,13 @@
 namespace terracast::testing {
 
 #ifdef TERRACAST_SANITIZED
+inline constexpr bool kSanitizedBuild = true;
 inline constexpr int kSweepDivisor = 10;
 // AddressSanitizer's shadow memory and quarantine inflate resident memory several times over: measurements of
 // it say nothing about the plain build's.
 inline constexpr bool kResidentMemoryIsMeaningful = false;
 #else
+inline constexpr bool kSanitizedBuild = false;
 inline constexpr int kSweepDivisor = 1;
 inline constexpr bool kResidentMemoryIsMeaningful = true;
 #endif
