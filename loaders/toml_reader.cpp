@@ -141,8 +141,11 @@ std::string TomlFile::resolveConfined(SourceLocation where, std::string_view key
                                 key, quoted, flag));
     const std::string resolved = resolve(path);
     std::error_code ec;
-    const auto base = std::filesystem::weakly_canonical(baseDir_.empty() ? std::filesystem::path(".") : std::filesystem::path(baseDir_), ec);
-    const auto target = ec ? std::filesystem::path() : std::filesystem::weakly_canonical(resolved, ec);
+    // Absolute first: weakly_canonical leaves a relative path relative when no part of it exists yet.
+    const auto base = std::filesystem::weakly_canonical(
+        std::filesystem::absolute(baseDir_.empty() ? std::filesystem::path(".") : std::filesystem::path(baseDir_)), ec);
+    const auto target = ec ? std::filesystem::path()
+                           : std::filesystem::weakly_canonical(std::filesystem::absolute(resolved), ec);
     const auto inside = [&] {
         auto b = base.begin(), t = target.begin();
         for (; b != base.end(); ++b, ++t)

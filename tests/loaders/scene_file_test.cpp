@@ -310,6 +310,16 @@ TEST_CASE("Scene file: by default its paths stay in its folder, and name no netw
     CHECK_THROWS_WITH(load("[render]\noutput = \"/tmp/replaced.png\"\n"),
                       Catch::Contains("output: \"/tmp/replaced.png\" is an absolute path"));
     CHECK_THROWS_WITH(load("[render]\noutput = \"../replaced.png\"\n"), Catch::Contains("output: \"../replaced.png\" leads out"));
+
+    // Named by a relative path from its own folder, with an output that does not exist yet.
+    const fs::path was = fs::current_path();
+    fs::current_path(folder);
+    std::ofstream("here.toml") << "[render]\noutput = \"new/out.png\"\n" << object("dems/dem.tif");
+    std::string output;
+    CHECK_NOTHROW(output = loadSceneFile("here.toml").render.output);
+    CHECK_THROWS_WITH(parseSceneText("[render]\noutput = \"../out.png\"\n", "here.toml", ""), Catch::Contains("leads out"));
+    fs::current_path(was);
+    CHECK(output == "new/out.png");
 }
 
 TEST_CASE("Scene file: the examples of docs/scene-format.md together form a valid scene", "[loaders]") {
