@@ -405,8 +405,11 @@ struct Walk {
             return Visit::Passed;
         }
         // A segment wholly below the cell is skipped when looking for the first crossing; for occlusion the
-        // terrain is solid, so such a segment is tested (and found blocked) below.
-        if (!anyHit && zMax < double(std::min(std::min(f00, f10), std::min(f01, f11))) - margin) {
+        // terrain is solid, so such a segment is tested (and found blocked) below. Not for the nearest squares:
+        // their walls make a crossing of a ray that was above the previous square and enters this cell below all
+        // its corners, which a continuous surface cannot.
+        if (!anyHit && shape != Shape::Nearest &&
+            zMax < double(std::min(std::min(f00, f10), std::min(f01, f11))) - margin) {
             cornerG.reset();
             hasCarriedG = false;
             return Visit::Below;

@@ -97,6 +97,16 @@ TEST_CASE("Viewshed: a wall hides exactly what lies behind it, and flat ground i
     const MapRaster curved = viewshed(wide, c);
     CHECK(curved.values[size_t(1 * 401 + 20)] == 1.0f);   // 1 km
     CHECK(curved.values[size_t(1 * 401 + 400)] == 0.0f);  // 20 km
+    // The ground lowered by k d^2 / (2 R) is concave, so a target on it at distance D is seen exactly while the
+    // drop there, k D^2 / (2 R), stays under the eye's height: D = sqrt(2 R h / k), 5456 m for h = 2 m.
+    const double horizonM = std::sqrt(2.0 * c.earthRadiusM * c.observerHeightM / c.curvatureCoeff);
+    REQUIRE(horizonM == Approx(5456.0).margin(1.0));
+    for (int64_t i = 100; i <= 120; ++i) {
+        const double d = 50.0 * double(i);
+        if (std::abs(d - horizonM) < 60.0) continue;  // within about a cell of the horizon: the grazing zone
+        INFO("target " << d << " m away, horizon " << horizonM << " m");
+        CHECK(curved.values[size_t(1 * 401 + i)] == (d < horizonM ? 1.0f : 0.0f));
+    }
     // An observer off the grid is refused.
     ViewshedSettings off = s;
     off.observerXM = -500.0;
