@@ -3,6 +3,7 @@
 #include "heightfield/height_grid.h"
 #include "tracer/core/cancel.h"
 #include "tracer/core/errors.h"
+#include "tracer/core/text.h"
 
 #include <fmt/core.h>
 
@@ -16,19 +17,7 @@
 
 namespace terracast::cli {
 
-std::string oneLine(std::string_view text) {
-    std::string line;
-    line.reserve(text.size());
-    for (const char c : text) {
-        const auto u = static_cast<unsigned char>(c);
-        if (c == '\n') line += "\\n";
-        else if (c == '\r') line += "\\r";
-        else if (c == '\t') line += "\\t";
-        else if (u < 0x20 || u == 0x7F) line += fmt::format("\\x{:02x}", u);
-        else line += c;
-    }
-    return line;
-}
+std::string oneLine(std::string_view text) { return escapeControls(text); }
 
 int guarded(const std::function<void()>& job) {
     try {

@@ -1,25 +1,12 @@
 #include "loaders/toml_reader.h"
 
+#include "tracer/core/text.h"
+
 #include <cctype>
 
 namespace terracast::toml_reader {
 
-std::string printable(std::string_view text, size_t maxBytes) {
-    std::string out;
-    for (const char ch : text) {
-        const auto c = static_cast<unsigned char>(ch);
-        if (out.size() >= maxBytes && (c & 0xC0) != 0x80) {
-            out += "...";
-            break;
-        }
-        if (c == '\n') out += "\\n";
-        else if (c == '\r') out += "\\r";
-        else if (c == '\t') out += "\\t";
-        else if (c < 0x20 || c == 0x7F) out += fmt::format("\\x{:02x}", c);
-        else out += ch;
-    }
-    return out;
-}
+std::string printable(std::string_view text, size_t maxBytes) { return escapeControls(text, maxBytes); }
 
 std::string quoteKey(std::string_view key) { return fmt::format("'{}'", printable(key)); }
 

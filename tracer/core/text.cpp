@@ -13,6 +13,26 @@ std::string lowerExtension(const std::string& path) {
     return ext;
 }
 
+std::string escapeControls(std::string_view text, size_t maxBytes) {
+    std::string out;
+    char hex[8];
+    for (const char ch : text) {
+        const auto c = static_cast<unsigned char>(ch);
+        if (out.size() >= maxBytes && (c & 0xC0) != 0x80) {
+            out += "...";
+            break;
+        }
+        if (c == '\n') out += "\\n";
+        else if (c == '\r') out += "\\r";
+        else if (c == '\t') out += "\\t";
+        else if (c < 0x20 || c == 0x7F) {
+            std::snprintf(hex, sizeof hex, "\\x%02x", c);
+            out += hex;
+        } else out += ch;
+    }
+    return out;
+}
+
 std::string humanBytes(double bytes) {
     const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
     int u = 0;
