@@ -101,6 +101,8 @@ AccuracyReport measureAccuracy(const HeightGrid& grid, const AccuracyOptions& op
         ambiguous[k] = counters.ambiguous;
         report.referenceHits += hit.has_value();
         report.ambiguousRays += counters.ambiguous;
+        if (options.keepReferenceRays)
+            report.referenceRays.push_back({rays[k].ray, rays[k].interval, refT[k], counters.ambiguous != 0});
     }
 
     std::vector<CellMethod> methods = options.methods;

@@ -5,6 +5,7 @@
 #include "heightfield/traversal.h"
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace terracast {
@@ -13,6 +14,7 @@ struct AccuracyOptions {
     int64_t rays = 100000;             // total rays, split evenly between camera-like, grazing and shadow-like
     uint64_t seed = 1;                 // random seed: the same seed gives the same rays
     std::vector<CellMethod> methods;   // methods to measure; empty = all but the reference
+    bool keepReferenceRays = false;    // return every ray with the reference's answer (for an outside check)
 };
 
 // Mean, 99th percentile and maximum of a set of errors.
@@ -36,6 +38,14 @@ struct MethodAccuracy {
     ErrorSummary tErrorRel;            // |t - t_ref| / t_ref
 };
 
+// One traced ray and the reference's answer to it.
+struct ReferenceRay {
+    Ray ray;
+    Interval interval;
+    std::optional<double> t;           // the reference's first hit, none for a miss
+    bool ambiguous = false;            // the reference flagged it as grazing within float tolerance
+};
+
 struct AccuracyReport {
     int64_t rays = 0;
     int64_t cameraRays = 0;
@@ -45,6 +55,7 @@ struct AccuracyReport {
     int64_t ambiguousRays = 0;         // rays the reference flags as grazing within float tolerance
     double grazingToleranceM = 0.0;    // the tolerance of that flag
     std::vector<MethodAccuracy> methods;
+    std::vector<ReferenceRay> referenceRays;  // filled only with AccuracyOptions::keepReferenceRays
 };
 
 // Traces the same seeded rays with each method and with the reference, and compares.
