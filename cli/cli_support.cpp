@@ -150,7 +150,7 @@ bool parsePair(const std::string& text, double& a, double& b) {
 
 void parseSizeOption(const std::string& text, int& width, int& height) {
     if (!parseSize(text, width, height))
-        throw InputError(fmt::format("--size: expected WxH with positive integers, found '{}'", text));
+        throw InputError(fmt::format("--size: expected WxH with whole numbers from 1 to 65536, found '{}'", oneLine(text)));
 }
 
 void parseSunOption(const std::string& text, double& azimuthDeg, double& elevationDeg) {
@@ -242,10 +242,12 @@ CLI::Validator numberRange(double lo, double hi, const char* what) {
         "", "range");
 }
 
-void requireFiniteNumbers(CLI::App& app) {
-    for (CLI::Option* option : app.get_options())
+void checkNumberOptions(CLI::App& app) {
+    for (CLI::Option* option : app.get_options()) {
         if (option->get_type_name() == "FLOAT") option->check(finiteNumber());
-    for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) requireFiniteNumbers(*sub);
+        if (option->get_type_name() == "UINT") option->check(nonNegativeInteger(int64_t(1) << 53));
+    }
+    for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) checkNumberOptions(*sub);
 }
 
 void addMaxMemoryOption(CLI::App& cmd, double& bytes, const std::string& help) {

@@ -81,8 +81,9 @@ CLI::Validator finiteNumber();        // any finite number (no nan, inf, or over
 CLI::Validator positiveNumber();      // a finite number above 0
 CLI::Validator nonNegativeInteger(int64_t max = 2147483647);  // a whole number from 0 to max
 CLI::Validator numberRange(double lo, double hi, const char* what);  // "expected WHAT from LO to HI"
-// Adds finiteNumber to every floating-point option of `app` and its subcommands.
-void requireFiniteNumbers(CLI::App& app);
+// Adds finiteNumber to every floating-point option of `app` and its subcommands, and nonNegativeInteger (up to
+// 2^53) to every unsigned one, which would otherwise take -1 as 2^64 - 1.
+void checkNumberOptions(CLI::App& app);
 
 // --max-memory SIZE into `bytes`.
 void addMaxMemoryOption(CLI::App& cmd, double& bytes, const std::string& help);

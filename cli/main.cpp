@@ -1,6 +1,7 @@
 // terracast: ray tracing of terrain height fields. Each command family (cli/*_command*.cpp) parses its options
 // into the typed options of one library function; this file builds the command line and runs the command.
 #include "cli/cli_support.h"
+#include "tracer/core/text.h"
 
 #include "tracer/core/cancel.h"
 
@@ -40,8 +41,20 @@ int main(int argc, char** argv) {
     cli::addMapCommands(app, commands);
     cli::addMeasureCommands(app, commands);
     cli::addBenchCommand(app, commands);
-    cli::requireFiniteNumbers(app);
+    cli::checkNumberOptions(app);
 
+    // A first word that is neither an option nor a command: CLI11 would only say that a command is required.
+    std::string names;
+    bool known = false;
+    for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+        names += (names.empty() ? "" : ", ") + sub->get_name();
+        known = known || (argc >= 2 && sub->check_name(argv[1]));
+    }
+    if (argc < 2 || (argv[1][0] != '-' && !known)) {
+        fmt::print(stderr, "terracast: error: {} (expected one of {}; see terracast --help)\n",
+                   argc < 2 ? std::string("no command given") : "unknown command '" + cli::oneLine(argv[1]) + "'", names);
+        return 2;
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -50,6 +63,22 @@ int main(int argc, char** argv) {
         return app.exit(e);
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
+    } catch (const CLI::ExtrasError& e) {
+        // CLI11 lists the extra words last to first; name the first, as the user typed it.
+        for (CLI::App* sub : app.get_subcommands())
+            if (!sub->remaining().empty()) {
+                const std::string word = sub->remaining().front();
+                std::vector<std::string> options;
+                for (const CLI::Option* o : sub->get_options())
+                    for (const std::string& name : o->get_lnames()) options.push_back("--" + name);
+                const auto near = word.starts_with("--") ? nearMiss(word, options) : std::nullopt;
+                fmt::print(stderr, "terracast: error: {}: unexpected argument '{}'{} (see terracast {} --help)\n",
+                           sub->get_name(), cli::oneLine(word), near ? "; did you mean " + *near + "?" : "",
+                           sub->get_name());
+                return 2;
+            }
+        fmt::print(stderr, "terracast: error: {} (see terracast --help)\n", cli::oneLine(e.what()));
+        return 2;
     } catch (const CLI::ParseError& e) {
         fmt::print(stderr, "terracast: error: {} (see terracast --help)\n", cli::oneLine(e.what()));
         return 2;

@@ -52,7 +52,8 @@ void addRenderCommand(CLI::App& app, Commands& commands) {
     cmd->add_option("--scale", render.scale, "Map view: output pixels per DEM cell (default 1)");
     cmd->add_flag("--no-shadows", t->noShadows, "Map view: no cast shadows");
     cmd->add_option("--sky-samples", render.skySamples,
-                    "Sky-visibility rays per hit (per pixel in the map view), 0 = off (default 4; map view 16)");
+                    "Sky-visibility rays per hit (per pixel in the map view), 0 = off (default 4; map view 16)")
+        ->check(nonNegativeInteger(4096));
     cmd->add_option("--sky", t->sky,
                     "Sky: physical (Rayleigh and Mie scattering with aerial perspective; default), gradient, "
                     "flat or none");

@@ -17,6 +17,10 @@ namespace terracast {
 
 void lonLatToSource(const GeoReference& geo, double lonDeg, double latDeg, double& x, double& y) {
     if (geo.crsWkt.empty()) throw InputError("--lonlat: the DEM has no CRS to convert longitude and latitude into");
+    if (!(lonDeg >= -180.0 && lonDeg <= 180.0 && latDeg >= -90.0 && latDeg <= 90.0))
+        throw InputError(fmt::format("--lonlat: expected a longitude in [-180, 180] and a latitude in [-90, 90] "
+                                     "(degrees), found {:g}, {:g}",
+                                     lonDeg, latDeg));
     OGRSpatialReference wgs84, target;
     wgs84.SetWellKnownGeogCS("WGS84");
     wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
@@ -32,8 +36,7 @@ void lonLatToSource(const GeoReference& geo, double lonDeg, double latDeg, doubl
     const bool done = t && t->Transform(1, &x, &y);
     CPLPopErrorHandler();
     if (!done || !std::isfinite(x) || !std::isfinite(y))
-        throw InputError("--lonlat: cannot convert " + std::to_string(lonDeg) + ", " + std::to_string(latDeg) +
-                         " into the DEM's CRS");
+        throw InputError(fmt::format("--lonlat: cannot convert {:g}, {:g} into the DEM's CRS", lonDeg, latDeg));
 }
 
 struct GridLonLat::Transforms {

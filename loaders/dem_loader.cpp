@@ -71,9 +71,9 @@ void checkRasterSize(const std::string& path, int64_t width, int64_t height, dou
     const double bytes = static_cast<double>(width) * static_cast<double>(height) * kBytesPerVertex;
     const double limit = memoryLimitBytes(maxBytes);
     if (held + bytes > limit)
-        throw InputError(fmt::format("{}: {} x {} raster needs about {:.2f} GiB to load and trace ({} held already), "
-                                     "more than the {:.2f} GiB limit (--max-memory)",
-                                     path, width, height, bytes / kGiB, humanBytes(held), limit / kGiB));
+        throw InputError(fmt::format("{}: {} x {} raster needs about {} to load and trace ({} held already), "
+                                     "more than the {} limit (--max-memory)",
+                                     path, width, height, humanBytes(bytes), humanBytes(held), humanBytes(limit)));
 }
 
 // Builds the grid, naming the file in any GridError, and refuses grids without a cell to trace.
@@ -150,6 +150,10 @@ Lattice georeference(const std::string& path, GDALDataset& dataset, const DemLoa
                                        options.imageCellSizeM));
         return {options.imageCellSizeM, options.imageCellSizeM, true, false};
     }
+    for (int k = 0; k < 6; ++k)
+        if (!std::isfinite(gt[k]) || std::abs(gt[k]) > 1e15)
+            throw InputError(fmt::format("{}: geotransform term {} is {}, expected a finite coordinate within 1e15",
+                                         path, k, gt[k]));
     if (gt[2] != 0.0 || gt[4] != 0.0)
         throw InputError(fmt::format("{}: rotated geotransform (terms {} and {}) is not supported; warp the raster "
                                      "north-up first (gdalwarp)",

@@ -12,10 +12,10 @@ namespace terracast {
 
 namespace fs = std::filesystem;
 
-void checkNotInput(const std::string& output, const std::string& input, const char* what) {
+void checkNotInput(const std::string& output, const std::string& input, const char* what, const char* inputName) {
     std::error_code ec;
     if (fs::exists(output, ec) && fs::exists(input, ec) && fs::equivalent(output, input, ec))
-        throw InputError(fmt::format("{}: {} is the input DEM; refusing to overwrite it", output, what));
+        throw InputError(fmt::format("{}: {} is {}; refusing to overwrite it", output, what, inputName));
 }
 
 void checkOutputFolder(const std::string& path) {
@@ -27,8 +27,9 @@ void checkOutputFolder(const std::string& path) {
         throw InputError(fmt::format("{}: output folder '{}' does not exist", path, dir.string()));
 }
 
-void checkOutputPath(const std::string& output, const std::string& input, std::initializer_list<const char*> allowed) {
-    checkNotInput(output, input, "output path");
+void checkOutputPath(const std::string& output, const std::string& input, std::initializer_list<const char*> allowed,
+                     const char* inputName) {
+    checkNotInput(output, input, "output path", inputName);
     const std::string ext = lowerExtension(output);
     bool ok = false;
     std::string expected;

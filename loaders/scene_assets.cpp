@@ -106,9 +106,9 @@ LoadedSceneAssets loadSceneAssets(const SceneDescription& scene, double maxBytes
             out.geo.push_back(dem.geo);
             out.assets.grids.push_back(std::make_shared<const HeightGrid>(std::move(dem.grid)));
         } catch (const InputError& e) {
-            throw InputError(where(scene, o.fileWhere) + e.what());
+            throw InputError(where(scene, o.fileWhere) + "file: " + e.what());
         } catch (const GridError& e) {
-            throw InputError(where(scene, o.fileWhere) + e.what());
+            throw InputError(where(scene, o.fileWhere) + "file: " + e.what());
         }
     }
     for (const MaterialDescription& m : scene.materials) {
@@ -124,7 +124,7 @@ LoadedSceneAssets loadSceneAssets(const SceneDescription& scene, double maxBytes
             out.bytes += double(drape->rgb.size() * sizeof(float));
             out.assets.drapes.push_back(std::move(drape));
         } catch (const InputError& e) {
-            throw InputError(where(scene, m.drapeWhere) + e.what());
+            throw InputError(where(scene, m.drapeWhere) + "drape: " + e.what());
         }
     }
     return out;

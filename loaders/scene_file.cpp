@@ -86,9 +86,9 @@ CameraDescription parseCamera(const TableReader& t) {
     if (fisheye) camera.fovDeg = kFisheyeDefaultFovDeg;
     if (const auto fov = t.number("fov", fisheye ? Range{0.0, 360.0, false, true} : Range{0.0, 180.0, false, false}))
         camera.fovDeg = *fov;
-    if (const auto h = t.number("height", kPositive)) camera.orthoHeightM = *h;
-    if (const auto a = t.number("aperture", kNonNegative)) camera.apertureRadiusM = *a;
-    if (const auto f = t.number("focus_distance", kNonNegative)) camera.focusDistanceM = *f;
+    if (const auto h = t.number("height", kLength)) camera.orthoHeightM = *h;
+    if (const auto a = t.number("aperture", Range{0.0, 1e9})) camera.apertureRadiusM = *a;
+    if (const auto f = t.number("focus_distance", Range{0.0, 1e9})) camera.focusDistanceM = *f;
     if (const auto s = t.orderedPair("shutter", "[open, close]")) {
         camera.shutterOpen = (*s)[0];
         camera.shutterClose = (*s)[1];
@@ -359,7 +359,7 @@ ObjectDescription parseObject(const TomlFile& scene, const TableReader& t, size_
             t.require("center", required);
             t.require("radius", required);
             o.centre = *t.vector3("center");
-            o.radiusM = *t.number("radius", kPositive);
+            o.radiusM = *t.number("radius", kLength);
             break;
         case ObjectKind::Plane:
             if (const auto p = t.vector3("point")) o.point = *p;
@@ -369,7 +369,7 @@ ObjectDescription parseObject(const TomlFile& scene, const TableReader& t, size_
         case ObjectKind::Polygon: parseVertices(t, required, false, o); break;
         case ObjectKind::Box: parseBox(t, o); break;
         case ObjectKind::Water:
-            if (const auto level = t.number("level")) o.levelM = *level;
+            if (const auto level = t.number("level", kCoordinate)) o.levelM = *level;
             break;
     }
     return o;
@@ -454,7 +454,7 @@ LightDescription parseLight(const TableReader& t) {
             t.require("position", "for " + subject);
             t.require("radius", "for " + subject);
             light.position = *t.vector3("position");
-            light.radiusM = *t.number("radius", kPositive);
+            light.radiusM = *t.number("radius", kLength);
             break;
     }
     return light;

@@ -31,7 +31,6 @@ namespace terracast::toml_reader {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kFloatMax = std::numeric_limits<float>::max();
 constexpr size_t kQuotedCharsMax = 60;     // user text quoted in a message is cut after this many bytes
-constexpr size_t kSuggestedKeyMax = 64;    // longer words get no near-miss suggestion (edit distance is O(n m))
 
 // ---- Text in messages ----
 
@@ -60,14 +59,6 @@ std::optional<SourceLocation> findExcessiveNesting(std::string_view text, int ma
 
 // ---- Near misses ----
 
-// Optimal string alignment distance (Levenshtein's edits plus adjacent transpositions, after Damerau 1964),
-// ignoring ASCII case.
-size_t editDistance(std::string_view a, std::string_view b);
-
-// The candidate closest to `word` if it is close enough to be a slip of the keyboard: one edit for words of
-// up to four letters, two up to eight, three beyond. Ties go to the earlier candidate.
-std::optional<std::string> nearMiss(std::string_view word, std::span<const std::string> candidates);
-
 // " (did you mean 'radius'?)" when a candidate is close to `word`, else "".
 std::string didYouMean(std::string_view word, std::span<const std::string> candidates, bool asKey);
 
@@ -86,15 +77,19 @@ struct Range {
     // " > 0", " >= 0", " in (0, 180)", or "" for every number.
     std::string describe() const {
         if (lo == -kInf && hi == kInf) return "";
-        if (hi == kInf) return fmt::format(" {} {}", loClosed ? ">=" : ">", lo);
-        if (lo == -kInf) return fmt::format(" {} {}", hiClosed ? "<=" : "<", hi);
-        return fmt::format(" in {}{}, {}{}", loClosed ? '[' : '(', lo, hi, hiClosed ? ']' : ')');
+        if (hi == kInf) return fmt::format(" {} {:g}", loClosed ? ">=" : ">", lo);
+        if (lo == -kInf) return fmt::format(" {} {:g}", hiClosed ? "<=" : "<", hi);
+        return fmt::format(" in {}{:g}, {:g}{}", loClosed ? '[' : '(', lo, hi, hiClosed ? ']' : ')');
     }
 };
 
 constexpr Range kAnyNumber{};
 constexpr Range kNonNegative{0.0, kInf, true, true};
 constexpr Range kPositive{0.0, kInf, false, true};
+// Coordinates and lengths in metres: a scene fits in a cube a million kilometres wide, where double precision
+// still resolves a micrometre and no product of two coordinates overflows.
+constexpr Range kCoordinate{-1e9, 1e9, true, true};
+constexpr Range kLength{0.0, 1e9, false, true};
 
 // ---- Locations and errors ----
 
@@ -255,11 +250,17 @@ public:
         return s;
     }
 
-    // A file path: not empty, and without NUL characters (the system would see only the part before one).
+    // A file path: not empty, and without control characters. The system would see only the part before a NUL;
+    // a newline or a tab makes a name that breaks every script that lists the folder, and a scene file may come
+    // from anyone.
     std::optional<std::string> path(std::string_view key) const {
         auto s = nonEmptyString(key);
-        if (s && s->find('\0') != std::string::npos)
-            fail(valueWhere(key), fmt::format("{}: expected a file path, found a string with a NUL character", key));
+        if (!s) return s;
+        for (const char c : *s)
+            if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+                fail(valueWhere(key),
+                     fmt::format("{}: expected a file path, found a string with a control character (code {})", key,
+                                 static_cast<int>(static_cast<unsigned char>(c))));
         return s;
     }
 
@@ -276,7 +277,7 @@ public:
     }
 
     // Three numbers [x, y, z] in `range` each.
-    std::optional<glm::dvec3> vector3(std::string_view key, Range range = kAnyNumber,
+    std::optional<glm::dvec3> vector3(std::string_view key, Range range = kCoordinate,
                                       std::string_view form = "[x, y, z]") const {
         const toml::node* n = node(key);
         if (!n) return std::nullopt;
@@ -318,7 +319,7 @@ public:
                                           describeType(*n)));
         std::vector<glm::dvec3> result;
         for (size_t i = 0; i < array->size(); ++i)
-            result.push_back(vector3From(*array->get(i), fmt::format("{}[{}]", key, i), kAnyNumber, "[x, y, z]"));
+            result.push_back(vector3From(*array->get(i), fmt::format("{}[{}]", key, i), kCoordinate, "[x, y, z]"));
         return result;
     }
 

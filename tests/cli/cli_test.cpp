@@ -183,7 +183,8 @@ TEST_CASE("CLI: --max-memory refuses jobs estimated above it, before any work", 
     auto r = runTerracast("render '" + kStHelens + "' -o '" + out + "' --max-memory 1M");
     CHECK(r.exitCode == 2);
     CHECK(r.err.find("--max-memory") != std::string::npos);
-    CHECK(r.err.find("GiB") != std::string::npos);
+    CHECK(r.err.find("327 x 468 raster needs about 1.7 MiB to load and trace") != std::string::npos);
+    CHECK(r.err.find("more than the 1.0 MiB limit") != std::string::npos);
     // The grid fits but an Embree scene and the film do not: 1025^2 vertices load in about 150 MiB with the
     // process's libraries, and Embree's mesh would add over 200 MiB.
     const std::string puget = std::string(TERRACAST_SOURCE_DIR) + "/data-samples/puget-sound-usgs-1025x1025-16bit-heightmap.png";

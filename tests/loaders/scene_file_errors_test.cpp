@@ -94,13 +94,13 @@ TEST_CASE("Scene file: a value of the wrong type says what was expected and foun
     CHECK(errorOf("[[object]]\n"
                   "type = \"sphere\"\n"
                   "center = [0, 0, 0]\n"
-                  "radius = \"big\"\n") == "scene.toml:4:10: radius: expected a number > 0, found a string");
+                  "radius = \"big\"\n") == "scene.toml:4:10: radius: expected a number in (0, 1e+09], found a string");
     CHECK(errorOf("[render]\nwidth = 960.5\n") ==
           "scene.toml:2:9: width: expected an integer in 1..16384, found a floating-point number");
     CHECK(errorOf("[sky]\naerial_perspective = \"yes\"\n") ==
           "scene.toml:2:22: aerial_perspective: expected true or false, found a string");
     CHECK(errorOf("[camera]\ntype = 3\n") == "scene.toml:2:8: type: expected a string, found an integer");
-    CHECK(errorOf("[camera]\neye = [0, \"1\", 2]\n") == "scene.toml:2:11: eye[1]: expected a number, found a string");
+    CHECK(errorOf("[camera]\neye = [0, \"1\", 2]\n") == "scene.toml:2:11: eye[1]: expected a number in [-1e+09, 1e+09], found a string");
     CHECK(errorOf("[[material]]\nname = \"m\"\nior = [1.5, 1.5, 1.5]\n") ==
           "scene.toml:3:7: ior: expected a number > 0, found an array (ior_rgb takes one index per channel)");
     CHECK(errorOf("[[material]]\nname = \"m\"\nmirror = true\n") ==
@@ -130,9 +130,19 @@ TEST_CASE("Scene file: a negative or zero radius is refused", "[loaders]") {
     CHECK(errorOf("[[object]]\n"
                   "type = \"sphere\"\n"
                   "center = [0, 0, 0]\n"
-                  "radius = -2\n") == "scene.toml:4:10: radius: expected a number > 0, found -2");
+                  "radius = -2\n") == "scene.toml:4:10: radius: expected a number in (0, 1e+09], found -2");
     CHECK(errorOf("[[light]]\ntype = \"sphere\"\nposition = [0, 0, 9]\nradius = 0\n") ==
-          "scene.toml:4:10: radius: expected a number > 0, found 0");
+          "scene.toml:4:10: radius: expected a number in (0, 1e+09], found 0");
+}
+
+TEST_CASE("Scene file: coordinates and lengths beyond a million kilometres are refused", "[loaders]") {
+    CHECK(errorOf("[[object]]\ntype = \"sphere\"\ncenter = [1e300, 0, 0]\nradius = 1\n") ==
+          "scene.toml:3:11: center[0]: expected a number in [-1e+09, 1e+09], found 1e+300");
+    CHECK(errorOf("[[object]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 2e9\n") ==
+          "scene.toml:4:10: radius: expected a number in (0, 1e+09], found 2000000000");
+    CHECK(errorOf("[[object]]\ntype = \"triangle\"\nvertices = [[0, 0, 0], [1, 0, 0], [0, -1e10, 0]]\n") ==
+          "scene.toml:3:39: vertices[2][1]: expected a number in [-1e+09, 1e+09], found -10000000000");
+    CHECK(errorOf("[camera]\neye = [0, 0, 1e9]\nlook_at = [0, 1e9, 0]\n") == "(no error)");
 }
 
 TEST_CASE("Scene file: an index of refraction at or below zero is refused", "[loaders]") {
@@ -194,7 +204,7 @@ TEST_CASE("Scene file: other out-of-range values are refused with the range and 
     CHECK(errorOf("[camera]\ntype = \"fisheye\"\nfov = 361\n") ==
           "scene.toml:3:7: fov: expected a number in (0, 360], found 361");
     CHECK(errorOf("[camera]\ntype = \"thin-lens\"\naperture = -0.1\n") ==
-          "scene.toml:3:12: aperture: expected a number >= 0, found -0.1");
+          "scene.toml:3:12: aperture: expected a number in [0, 1e+09], found -0.1");
     CHECK(errorOf("[camera]\nshutter = [0.5, 0.25]\n") ==
           "scene.toml:2:11: shutter: expected [open, close] in increasing order, found [0.5, 0.25]");
     CHECK(errorOf("[[material]]\nname = \"m\"\nmirror = [0, 1.5, 0]\n") ==
@@ -206,7 +216,7 @@ TEST_CASE("Scene file: other out-of-range values are refused with the range and 
     CHECK(errorOf("[[object]]\ntype = \"box\"\nmin = [0, 0, 5]\nmax = [1, 1, 5]\n") ==
           "scene.toml:4:7: max: expected a corner above min on every axis, found z = 5 for min and 5 for max");
     CHECK(errorOf("[[object]]\ntype = \"water\"\nlevel = nan\n[[object]]\ntype = \"heightfield\"\nfile = \"dem.tif\"\n") ==
-          "scene.toml:3:9: level: expected a finite number, found nan");
+          "scene.toml:3:9: level: expected a finite number in [-1e+09, 1e+09], found nan");
     CHECK(errorOf("[[light]]\nelevation = 91\n") ==
           "scene.toml:2:13: elevation: expected a number in [-90, 90], found 91");
     CHECK(errorOf("[render]\nwidth = 0\n") == "scene.toml:2:9: width: expected an integer in 1..16384, found 0");
@@ -287,7 +297,10 @@ TEST_CASE("Scene file: a missing height-field file or drape raster is reported a
           "scene.toml:3:1: file: " + folder.file("tiles") + ": is a directory, expected a file");
     // The system would see only "dem.tif", which exists.
     CHECK(error("[[object]]\ntype = \"heightfield\"\nfile = \"dem.tif\\u0000.zip\"\n") ==
-          "scene.toml:3:8: file: expected a file path, found a string with a NUL character");
+          "scene.toml:3:8: file: expected a file path, found a string with a control character (code 0)");
+    // A newline would make a name that breaks scripts listing the folder.
+    CHECK(error("[[object]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\n[render]\noutput = \"a\\nb.png\"\n") ==
+          "scene.toml:6:10: output: expected a file path, found a string with a control character (code 10)");
     CHECK(error("[[material]]\nname = \"photo\"\ndrape = \"missing-ortho.tif\"\n") ==
           "scene.toml:3:1: drape: " + folder.file("missing-ortho.tif") + ": no such file");
     CHECK(error("[[material]]\nname = \"photo\"\nterrain = \"drape\"\n") ==

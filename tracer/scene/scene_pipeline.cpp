@@ -81,9 +81,11 @@ void renderSceneFile(const SceneRunOptions& o, const RunListener& listener) {
         throw InputError(fmt::format("--debug-pixel: expected a pixel inside {}x{}, found {},{}", r.width, r.height,
                                      o.debugX, o.debugY));
     if (writesImage) {
-        checkOutputPath(r.output, o.path);
+        checkOutputPath(r.output, o.path, {".png", ".exr"}, "the scene file");
         for (const auto& obj : d.objects)
-            if (obj.kind == ObjectKind::HeightField) checkNotInput(r.output, obj.filePath, "output path");
+            if (obj.kind == ObjectKind::HeightField) checkNotInput(r.output, obj.filePath, "output path", "a height field's DEM");
+        for (const auto& m : d.materials)
+            if (!m.drapePath.empty()) checkNotInput(r.output, m.drapePath, "output path", "a material's drape");
     }
 
     const double limit = memoryLimitBytes(o.maxMemoryBytes);
