@@ -107,29 +107,47 @@ void HeightGrid::finish() {
     buildPyramid();
 }
 
-void HeightGrid::chooseStorage() {
+std::vector<double> int16CandidateScales(double scaleHint) {
     // Whole metres first (SRTM, USGS and most integer DEMs), then the source's own unit if we were told it.
-    if (tryInt16(1.0)) return;
-    if (scaleHint_ > 0.0 && std::isfinite(scaleHint_) && scaleHint_ != 1.0) tryInt16(scaleHint_);
+    std::vector<double> scales{1.0};
+    if (scaleHint > 0.0 && std::isfinite(scaleHint) && scaleHint != 1.0) scales.push_back(scaleHint);
+    return scales;
+}
+
+void HeightGrid::chooseStorage() {
+    for (const double s : int16CandidateScales(scaleHint_))
+        if (tryInt16(s)) return;
+}
+
+std::optional<int32_t> int16CodeOffset(float minM, float maxM, double scale) {
+    // The lowest valid height gets code -32768, so a range of 65536 codes starts there.
+    const double qlo = std::round(double(minM) / scale), qhi = std::round(double(maxM) / scale);
+    if (!(qhi - qlo <= 65535.0) || !(std::abs(qlo) < 2.0e9) || !(std::abs(qhi) < 2.0e9)) return std::nullopt;
+    return static_cast<int32_t>(int64_t(qlo) - kLowestCode);
 }
 
 // Lossless means the same bits: a valid -0 height (which decodes as +0) keeps the grid in float32.
+bool int16RoundTrips(float z, double scale) {
+    if (!std::isfinite(z)) return false;
+    const double r = std::round(double(z) / scale);
+    if (!(std::abs(r) < 2.0e9)) return false;
+    return std::bit_cast<uint32_t>(float(r * scale)) == std::bit_cast<uint32_t>(z);
+}
+
 bool HeightGrid::tryInt16(double s) {
-    // The lowest valid height gets code -32768, so a range of 65536 codes starts there.
-    const double qlo = std::round(double(minHeightM_) / s), qhi = std::round(double(maxHeightM_) / s);
-    if (!(qhi - qlo <= 65535.0) || !(std::abs(qlo) < 2.0e9) || !(std::abs(qhi) < 2.0e9)) return false;
-    const auto offset = static_cast<int32_t>(int64_t(qlo) - kLowestCode);
+    const auto codeOffset = int16CodeOffset(minHeightM_, maxHeightM_, s);
+    if (!codeOffset) return false;
+    const int32_t offset = *codeOffset;
     const auto n = static_cast<size_t>(width_ * height_);
     std::atomic<bool> lossless{true};
     const float* h = heightsM_.data();
-    // The code for height z, or false when no code decodes to exactly z's bits.
+    // The code for height z, or false when no code in range decodes to exactly z's bits.
     auto encode = [&](float z, int32_t& code) {
-        if (!std::isfinite(z)) return false;
-        const double r = std::round(double(z) / s);
-        if (!(r - qlo >= 0.0 && r - qlo <= 65535.0)) return false;
-        code = int32_t(int64_t(r) - offset);
-        const auto back = float(double(code + offset) * s);
-        return std::bit_cast<uint32_t>(back) == std::bit_cast<uint32_t>(z);
+        if (!int16RoundTrips(z, s)) return false;
+        const int64_t c = int64_t(std::round(double(z) / s)) - offset;
+        if (c < kLowestCode || c > std::numeric_limits<int16_t>::max()) return false;
+        code = int32_t(c);
+        return true;
     };
     // First only check (stopping at the first valid height that does not round-trip, so float data costs
     // little), then encode.

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -17,6 +18,15 @@ class GridError : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
 };
+
+// The int16 encoding of heights (HeightStorage::Int16), shared by whole grids and by grids read a band at a
+// time: the code offset that gives the lowest height of [minM, maxM] the lowest code, or none when the range
+// needs more than 65536 codes at `scale` metres per code; and whether height z decodes from its code (the nearest
+// multiple of `scale`) to the same bits.
+std::optional<int32_t> int16CodeOffset(float minM, float maxM, double scale);
+bool int16RoundTrips(float z, double scale);
+// The scales StoragePolicy::Auto tries, in order, given the source's unit (0 for none).
+std::vector<double> int16CandidateScales(double scaleHint);
 
 // How the heights are held in memory.
 enum class HeightStorage {

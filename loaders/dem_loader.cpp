@@ -32,6 +32,7 @@
 #include <unistd.h>
 #include <fstream>
 #include <mutex>
+#include <stdexcept>
 #include <string_view>
 
 namespace terracast {
@@ -59,13 +60,15 @@ std::string toLower(std::string s) {
     return s;
 }
 
-// Rejects rasters without a cell, and rasters too large to hold, before anything is allocated.
+// Rejects rasters without a cell, and rasters too large to hold, before anything is allocated (the second
+// check only for a `maxBytes` of 0, the default limit, or more).
 void checkRasterSize(const std::string& path, int64_t width, int64_t height, double maxBytes) {
     if (width <= 0 || height <= 0)
         throw InputError(fmt::format("{}: raster is {} x {}, with no sample to trace", path, width, height));
     if (width < 2 || height < 2)
         throw InputError(fmt::format("{}: {} x {} raster has no cell to trace (need at least 2 x 2)", path, width,
                                      height));
+    if (maxBytes < 0.0) return;  // a window reader, which never holds the raster
     // What the process holds already (libraries, the image codec when it reads a PNG) counts against the limit.
     const double held = currentResidentBytes();
     const double bytes = static_cast<double>(width) * static_cast<double>(height) * kBytesPerVertex;
@@ -264,85 +267,110 @@ void checkBlockSize(const std::string& path, GDALDataset& dataset, GDALRasterBan
                                  path, column, row, heightM, kMaxAbsHeightM));
 }
 
-// Loads band 1 of any raster GDAL can open. Messages name `path`; GDAL opens `openPath` when one is given.
-LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, const std::string& openPath = {}) {
-    registerGdalDrivers();
-    QuietGdalErrors quiet;
-    const std::string& source = openPath.empty() ? path : openPath;
-    GDALDatasetUniquePtr dataset(GDALDataset::Open(source.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
-    if (!dataset) {
-        const std::string reason = gdalReason();
-        const bool unrecognised = reason.find("not recognized as") != std::string::npos;
-        throw InputError(path + ": not a raster GDAL can read" + (unrecognised ? "" : reason));
+}  // namespace
+
+// An open GDAL raster whose band 1 is decoded into heights as loadDem decodes it. Reads of one dataset are
+// serialised: GDAL datasets take one reader at a time.
+struct DemWindowReader::Impl {
+    std::string path;
+    std::string driver;
+    int64_t width = 0;
+    int64_t height = 0;
+    Lattice lattice;
+    GeoReference geo;
+    std::vector<std::string> warnings;
+    GDALDatasetUniquePtr dataset;
+    GDALRasterBand* band = nullptr;
+    double metresPerRaw = 1.0;
+    double metresOffset = 0.0;
+    bool hasNodata = false;
+    double nodata = 0.0;
+    bool float32 = false;
+    mutable std::mutex readMutex;
+
+    // Opens `openPath` (or `path`) and checks everything but the heights, in the order loadDem reports them.
+    // With `wholeRaster` the raster must also fit the memory limit.
+    Impl(const std::string& path_, const DemLoadOptions& options, bool wholeRaster, const std::string& openPath) : path(path_) {
+        registerGdalDrivers();
+        QuietGdalErrors quiet;
+        const std::string& source = openPath.empty() ? path : openPath;
+        dataset.reset(GDALDataset::Open(source.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+        if (!dataset) {
+            const std::string reason = gdalReason();
+            const bool unrecognised = reason.find("not recognized as") != std::string::npos;
+            throw InputError(path + ": not a raster GDAL can read" + (unrecognised ? "" : reason));
+        }
+        driver = dataset->GetDriver() ? dataset->GetDriver()->GetDescription() : "";
+        width = dataset->GetRasterXSize();
+        height = dataset->GetRasterYSize();
+        checkRasterSize(path, width, height, wholeRaster ? options.maxBytes : -1.0);
+        const int bands = dataset->GetRasterCount();
+        if (bands < 1) throw InputError(path + ": raster has no band");
+        if (bands > 1) warnings.push_back(fmt::format("{}: {} bands, using band 1 as elevation", path, bands));
+
+        lattice = georeference(path, *dataset, options, geo, warnings);
+
+        band = dataset->GetRasterBand(1);
+        if (GDALDataTypeIsComplex(band->GetRasterDataType()))
+            throw InputError(fmt::format("{}: band 1 holds complex numbers ({}), expected real heights", path,
+                                         GDALGetDataTypeName(band->GetRasterDataType())));
+        checkBlockSize(path, *dataset, *band, options.maxBytes);
+        const VerticalUnit unit = verticalUnit(path, band->GetUnitType() ? band->GetUnitType() : "");
+        if (!unit.warning.empty()) warnings.push_back(unit.warning);
+        int hasScale = 0;
+        int hasOffset = 0;
+        const double scale = band->GetScale(&hasScale);
+        const double offset = band->GetOffset(&hasOffset);
+        metresPerRaw = (hasScale ? scale : 1.0) * unit.metresPerUnit;
+        metresOffset = (hasOffset ? offset : 0.0) * unit.metresPerUnit;
+        int declared = 0;
+        nodata = band->GetNoDataValue(&declared);
+        hasNodata = declared != 0;
+        float32 = band->GetRasterDataType() == GDT_Float32;
     }
 
-    LoadedDem dem;
-    dem.path = path;
-    dem.driver = dataset->GetDriver() ? dataset->GetDriver()->GetDescription() : "";
-    const int64_t width = dataset->GetRasterXSize();
-    const int64_t height = dataset->GetRasterYSize();
-    dem.sourceWidth = width;
-    dem.sourceHeight = height;
-    checkRasterSize(path, width, height, options.maxBytes);
-    const int bands = dataset->GetRasterCount();
-    if (bands < 1) throw InputError(path + ": raster has no band");
-    if (bands > 1) dem.warnings.push_back(fmt::format("{}: {} bands, using band 1 as elevation", path, bands));
-
-    const Lattice lattice = georeference(path, *dataset, options, dem.geo, dem.warnings);
-
-    GDALRasterBand* band = dataset->GetRasterBand(1);
-    if (GDALDataTypeIsComplex(band->GetRasterDataType()))
-        throw InputError(fmt::format("{}: band 1 holds complex numbers ({}), expected real heights", path,
-                                     GDALGetDataTypeName(band->GetRasterDataType())));
-    checkBlockSize(path, *dataset, *band, options.maxBytes);
-    const VerticalUnit unit = verticalUnit(path, band->GetUnitType() ? band->GetUnitType() : "");
-    if (!unit.warning.empty()) dem.warnings.push_back(unit.warning);
-    int hasScale = 0;
-    int hasOffset = 0;
-    const double scale = band->GetScale(&hasScale);
-    const double offset = band->GetOffset(&hasOffset);
-    const double metresPerRaw = (hasScale ? scale : 1.0) * unit.metresPerUnit;
-    const double metresOffset = (hasOffset ? offset : 0.0) * unit.metresPerUnit;
-
-    int hasNodata = 0;
-    const double nodata = band->GetNoDataValue(&hasNodata);
-    const bool float32 = band->GetRasterDataType() == GDT_Float32;
     // Nodata is compared on stored values; float32 bands often declare it at double precision.
-    auto isNodata = [&](double raw) {
+    bool isNodata(double raw) const {
         if (!hasNodata) return false;
         if (std::isnan(nodata)) return std::isnan(raw);
         return raw == nodata || (float32 && static_cast<float>(raw) == static_cast<float>(nodata));
-    };
+    }
 
-    const auto vertexCount = static_cast<size_t>(width * height);
-    std::vector<float> heightsM(vertexCount);
-    std::vector<uint8_t> valid;
-    if (hasNodata) valid.assign(vertexCount, 1);
-
-    // Read a strip of rows at a time, as float64 so every integer and float32 type converts exactly.
-    const int64_t rowsPerStrip = std::max<int64_t>(1, (int64_t{1} << 21) / width);
-    std::vector<double> strip(static_cast<size_t>(std::min(rowsPerStrip, height) * width));
-    for (int64_t row0 = 0; row0 < height; row0 += rowsPerStrip) {
-        const int64_t rows = std::min(rowsPerStrip, height - row0);
-        CPLErrorReset();
-        if (band->RasterIO(GF_Read, 0, static_cast<int>(row0), static_cast<int>(width), static_cast<int>(rows),
-                           strip.data(), static_cast<int>(width), static_cast<int>(rows), GDT_Float64, 0, 0,
-                           nullptr) != CE_None)
-            throw InputError(fmt::format("{}: cannot read rows {}..{} of band 1{}", path, row0, row0 + rows - 1,
-                                         gdalReason()));
-        for (int64_t r = 0; r < rows; ++r) {
+    void read(int64_t i0, int64_t j0, int64_t w, int64_t h, float* heightsM, uint8_t* valid) const {
+        if (i0 < 0 || j0 < 0 || w < 1 || h < 1 || i0 + w > width || j0 + h > height)
+            throw std::invalid_argument(fmt::format("{}: window {}+{} x {}+{} outside the {} x {} raster", path, i0, w,
+                                                    j0, h, width, height));
+        // The raster window holding the grid's: rows (and columns) are mirrored when the raster runs north to
+        // south (or east to west).
+        const int64_t column0 = lattice.flipColumns ? width - i0 - w : i0;
+        const int64_t row0 = lattice.flipRows ? height - j0 - h : j0;
+        // As float64, so that every integer and float32 type converts exactly.
+        std::vector<double> raw(static_cast<size_t>(w * h));
+        {
+            std::lock_guard lock(readMutex);
+            QuietGdalErrors quiet;
+            CPLErrorReset();
+            if (band->RasterIO(GF_Read, static_cast<int>(column0), static_cast<int>(row0), static_cast<int>(w),
+                               static_cast<int>(h), raw.data(), static_cast<int>(w), static_cast<int>(h), GDT_Float64,
+                               0, 0, nullptr) != CE_None)
+                throw InputError(fmt::format("{}: cannot read rows {}..{} of band 1{}", path, row0, row0 + h - 1,
+                                             gdalReason()));
+        }
+        for (int64_t r = 0; r < h; ++r) {
             const int64_t row = row0 + r;
-            const int64_t j = lattice.flipRows ? height - 1 - row : row;
-            for (int64_t column = 0; column < width; ++column) {
-                const int64_t i = lattice.flipColumns ? width - 1 - column : column;
-                const auto index = static_cast<size_t>(j * width + i);
-                const double raw = strip[static_cast<size_t>(r * width + column)];
-                if (isNodata(raw)) {
+            const int64_t j = (lattice.flipRows ? height - 1 - row : row) - j0;
+            for (int64_t c = 0; c < w; ++c) {
+                const int64_t column = column0 + c;
+                const int64_t i = (lattice.flipColumns ? width - 1 - column : column) - i0;
+                const auto index = static_cast<size_t>(j * w + i);
+                const double value = raw[static_cast<size_t>(r * w + c)];
+                if (isNodata(value)) {
                     valid[index] = 0;
                     heightsM[index] = 0.0f;
                     continue;
                 }
-                const double heightM = raw * metresPerRaw + metresOffset;
+                if (valid != nullptr) valid[index] = 1;
+                const double heightM = value * metresPerRaw + metresOffset;
                 const auto heightF = static_cast<float>(heightM);
                 if (!std::isfinite(heightF) || std::abs(heightM) > kMaxAbsHeightM)
                     throwBadHeight(path, column, row, heightM);
@@ -350,8 +378,54 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, c
             }
         }
     }
-    dem.grid = makeGrid(path, width, height, lattice.cellSizeXM, lattice.cellSizeYM, std::move(heightsM),
-                        std::move(valid), metresPerRaw);
+};
+
+DemWindowReader::DemWindowReader(const std::string& path, const DemLoadOptions& options)
+    : impl_(std::make_unique<Impl>(path, options, false, std::string())) {}
+DemWindowReader::~DemWindowReader() = default;
+const std::string& DemWindowReader::path() const { return impl_->path; }
+const std::string& DemWindowReader::driver() const { return impl_->driver; }
+int64_t DemWindowReader::width() const { return impl_->width; }
+int64_t DemWindowReader::height() const { return impl_->height; }
+double DemWindowReader::cellSizeXM() const { return impl_->lattice.cellSizeXM; }
+double DemWindowReader::cellSizeYM() const { return impl_->lattice.cellSizeYM; }
+double DemWindowReader::metresPerUnit() const { return impl_->metresPerRaw; }
+bool DemWindowReader::hasNodata() const { return impl_->hasNodata; }
+const GeoReference& DemWindowReader::geo() const { return impl_->geo; }
+const std::vector<std::string>& DemWindowReader::warnings() const { return impl_->warnings; }
+void DemWindowReader::read(int64_t i0, int64_t j0, int64_t w, int64_t h, float* heightsM, uint8_t* valid) const {
+    impl_->read(i0, j0, w, h, heightsM, valid);
+}
+
+namespace {
+
+// Loads band 1 of any raster GDAL can open, a band of rows at a time. Messages name `path`; GDAL opens
+// `openPath` when one is given.
+LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, const std::string& openPath = {}) {
+    const DemWindowReader::Impl reader(path, options, true, openPath);
+    LoadedDem dem;
+    dem.path = path;
+    dem.driver = reader.driver;
+    dem.sourceWidth = reader.width;
+    dem.sourceHeight = reader.height;
+    dem.geo = reader.geo;
+    dem.warnings = reader.warnings;
+    const int64_t width = reader.width, height = reader.height;
+    const auto vertexCount = static_cast<size_t>(width * height);
+    std::vector<float> heightsM(vertexCount);
+    std::vector<uint8_t> valid;
+    if (reader.hasNodata) valid.assign(vertexCount, 1);
+    // From the raster's first rows on (the grid's last), so that a bad height is reported at the first raster row
+    // that holds one.
+    const int64_t rowsPerBand = std::max<int64_t>(1, (int64_t{1} << 21) / width);
+    for (int64_t end = height; end > 0; end -= rowsPerBand) {
+        const int64_t rows = std::min(rowsPerBand, end);
+        const int64_t j0 = reader.lattice.flipRows ? end - rows : height - end;
+        const auto offset = static_cast<size_t>(j0 * width);
+        reader.read(0, j0, width, rows, heightsM.data() + offset, valid.empty() ? nullptr : valid.data() + offset);
+    }
+    dem.grid = makeGrid(path, width, height, reader.lattice.cellSizeXM, reader.lattice.cellSizeYM, std::move(heightsM),
+                        std::move(valid), reader.metresPerRaw);
     return dem;
 }
 

@@ -5,6 +5,7 @@
 #include "heightfield/height_grid.h"
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -49,6 +50,42 @@ LoadedDem loadDem(const std::string& path, const DemLoadOptions& options = {});
 // Loads a DEM held in memory (a whole file's bytes) through GDAL, as if read from a file called `name`, which
 // the messages cite. Throws as loadDem does.
 LoadedDem loadDemFromBytes(std::string_view bytes, const std::string& name, const DemLoadOptions& options = {});
+
+// A DEM opened through GDAL and read a window of vertices at a time, each decoded exactly as loadDem decodes
+// the whole raster (unit, scale and offset, nodata, row order): the source of tiled grids, which never hold the
+// raster (docs/architecture.md, "Tiled grids"). loadDem reads GDAL rasters through it too. Reads may come from
+// several threads; they take turns on the one dataset.
+class DemWindowReader {
+public:
+    // Opens the raster and checks everything but its heights, refusing what loadDem refuses (but not for its
+    // size: nothing in proportion to the raster is held). Throws InputError.
+    explicit DemWindowReader(const std::string& path, const DemLoadOptions& options = {});
+    ~DemWindowReader();
+    DemWindowReader(const DemWindowReader&) = delete;
+    DemWindowReader& operator=(const DemWindowReader&) = delete;
+
+    const std::string& path() const;
+    const std::string& driver() const;
+    int64_t width() const;          // vertices along x (the raster's columns)
+    int64_t height() const;         // vertices along y (the raster's rows)
+    double cellSizeXM() const;
+    double cellSizeYM() const;
+    double metresPerUnit() const;   // metres per stored unit (band scale and vertical unit)
+    bool hasNodata() const;         // the band declares a nodata value
+    const GeoReference& geo() const;
+    const std::vector<std::string>& warnings() const;
+
+    // Vertices [i0, i0 + w) x [j0, j0 + h) of the grid (j northward), row-major from row j0: heights in metres
+    // into `heightsM`, and into `valid` 1 per valid vertex and 0 per nodata one (whose height is then 0).
+    // `valid` may be null when the band declares no nodata. Throws InputError naming the raster rows when GDAL
+    // cannot read them or a height is non-finite or absurd; std::invalid_argument for a window off the grid.
+    void read(int64_t i0, int64_t j0, int64_t w, int64_t h, float* heightsM, uint8_t* valid) const;
+
+    struct Impl;
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
 
 // Metres per degree of latitude and longitude on the WGS84 ellipsoid at a latitude (degrees).
 struct MetresPerDegree {
