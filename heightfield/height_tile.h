@@ -1,0 +1,86 @@
+// One tile of a tiled grid (docs/architecture.md, "Tiled grids"): the vertices of up to kTileCells x kTileCells
+// cells, with the edge row and column it shares with its neighbours, so that the four corners of each of its
+// cells are its own; held as the whole grid's storage would hold them (int16 codes with the grid's offset and
+// scale, or float32), with validity bits for vertices and cells.
+#pragma once
+
+#include "heightfield/grid_summary.h"
+#include "heightfield/height_grid.h"
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace terracast {
+
+// Cells along each side of a tile.
+inline constexpr int64_t kTileCells = 256;
+
+// Where the tiles of a W x H vertex grid lie: tile (ti, tj) holds cells ti * kTileCells .. and the vertices
+// from ti * kTileCells to (ti + 1) * kTileCells inclusive, clipped to the grid.
+struct TileLayout {
+    int64_t width = 0;   // grid vertices along x
+    int64_t height = 0;  // grid vertices along y
+
+    int64_t tilesX() const { return (width - 1 + kTileCells - 1) / kTileCells; }
+    int64_t tilesY() const { return (height - 1 + kTileCells - 1) / kTileCells; }
+    int64_t tileCount() const { return tilesX() * tilesY(); }
+    // The tile holding cell (i, j); a vertex on a shared edge belongs to the tiles on both sides, and this gives
+    // the one whose cell (i, j) is, clipped so that the last vertex row and column have a tile.
+    int64_t tileOfCellX(int64_t i) const { return std::min(i / kTileCells, tilesX() - 1); }
+    int64_t tileOfCellY(int64_t j) const { return std::min(j / kTileCells, tilesY() - 1); }
+    int64_t key(int64_t ti, int64_t tj) const { return tj * tilesX() + ti; }
+    // The first vertex of tile (ti, tj) and its vertex counts.
+    int64_t firstVertexX(int64_t ti) const { return ti * kTileCells; }
+    int64_t firstVertexY(int64_t tj) const { return tj * kTileCells; }
+    int64_t verticesX(int64_t ti) const { return std::min(kTileCells + 1, width - firstVertexX(ti)); }
+    int64_t verticesY(int64_t tj) const { return std::min(kTileCells + 1, height - firstVertexY(tj)); }
+};
+
+class HeightTile {
+public:
+    // Encodes the tile's vertices (row-major from its first row; `valid` null when all are valid) in the storage
+    // `summary` chose for the whole grid. Throws GridError for a valid height that storage cannot hold exactly,
+    // which means the heights are not those the summary was made from.
+    HeightTile(const GridSummary& summary, int64_t firstX, int64_t firstY, int64_t verticesX, int64_t verticesY,
+               const float* heightsM, const uint8_t* valid);
+
+    int64_t firstX() const { return firstX_; }
+    int64_t firstY() const { return firstY_; }
+    int64_t verticesX() const { return verticesX_; }
+    int64_t verticesY() const { return verticesY_; }
+
+    // At grid vertex (i, j), which must lie in the tile.
+    float at(int64_t i, int64_t j) const {
+        const auto k = static_cast<size_t>((j - firstY_) * verticesX_ + (i - firstX_));
+        return codes_.empty() ? heightsM_[k] : float(double(int32_t(codes_[k]) + codeOffset_) * codeScale_);
+    }
+    bool vertexValid(int64_t i, int64_t j) const {
+        return valid_.empty() || bit(valid_, (j - firstY_) * verticesX_ + (i - firstX_));
+    }
+    // Cell (i, j) of the grid, which must be one of the tile's.
+    bool cellValid(int64_t i, int64_t j) const {
+        return cellValid_.empty() || bit(cellValid_, (j - firstY_) * (verticesX_ - 1) + (i - firstX_));
+    }
+    // Bytes held, by capacity.
+    size_t bytes() const;
+
+private:
+    static bool bit(const std::vector<uint64_t>& bits, int64_t k) {
+        return (bits[static_cast<size_t>(k) >> 6] >> (k & 63)) & 1u;
+    }
+
+    int64_t firstX_ = 0;
+    int64_t firstY_ = 0;
+    int64_t verticesX_ = 0;
+    int64_t verticesY_ = 0;
+    std::vector<int16_t> codes_;      // Int16 storage
+    std::vector<float> heightsM_;     // Float32 storage
+    int32_t codeOffset_ = 0;
+    double codeScale_ = 1.0;
+    std::vector<uint64_t> valid_;      // one bit per vertex; empty when all valid
+    std::vector<uint64_t> cellValid_;  // one bit per cell; empty when all valid
+};
+
+}  // namespace terracast

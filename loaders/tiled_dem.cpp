@@ -1,0 +1,55 @@
+#include "loaders/tiled_dem.h"
+
+#include "tracer/core/errors.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <vector>
+
+namespace terracast {
+
+TiledDem::TiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options)
+    : reader_(std::make_unique<DemWindowReader>(path, options)) {
+    const int64_t width = reader_->width(), height = reader_->height();
+    layout_ = TileLayout{width, height};
+    // One pass, a band of rows at a time (about 16 MiB of heights and flags at most).
+    GridSummaryBuilder builder(width, height, reader_->metresPerUnit());
+    const int64_t rowsPerBand = std::clamp<int64_t>((int64_t{16} << 20) / (5 * width), 1, kTileCells);
+    std::vector<float> heights(static_cast<size_t>(rowsPerBand * width));
+    std::vector<uint8_t> valid(heights.size());
+    for (int64_t j0 = 0; j0 < height; j0 += rowsPerBand) {
+        const int64_t rows = std::min(rowsPerBand, height - j0);
+        reader_->read(0, j0, width, rows, heights.data(), valid.data());
+        try {
+            builder.addRows(j0, rows, heights.data(), valid.data());
+        } catch (const GridError& e) {
+            throw InputError(path + ": " + e.what());
+        }
+    }
+    summary_ = builder.finish();
+    if (summary_.nodataVertices == width * height) throw InputError(path + ": every vertex is nodata");
+    if (summary_.validCells == 0)
+        throw InputError(fmt::format("{}: no cell has four valid corners ({} of {} vertices are nodata)", path,
+                                     summary_.nodataVertices, width * height));
+    cache_ = std::make_unique<TileCache<HeightTile>>(
+        cacheBytes, [this](int64_t key) { return readTile(key); }, [](const HeightTile& t) { return t.bytes(); });
+}
+
+std::shared_ptr<const HeightTile> TiledDem::tile(int64_t ti, int64_t tj) const { return cache_->get(layout_.key(ti, tj)); }
+
+std::shared_ptr<const HeightTile> TiledDem::readTile(int64_t key) const {
+    const int64_t ti = key % layout_.tilesX(), tj = key / layout_.tilesX();
+    const int64_t x0 = layout_.firstVertexX(ti), y0 = layout_.firstVertexY(tj);
+    const int64_t w = layout_.verticesX(ti), h = layout_.verticesY(tj);
+    std::vector<float> heights(static_cast<size_t>(w * h));
+    std::vector<uint8_t> valid(heights.size());
+    reader_->read(x0, y0, w, h, heights.data(), valid.data());
+    try {
+        return std::make_shared<const HeightTile>(summary_, x0, y0, w, h, heights.data(), valid.data());
+    } catch (const GridError& e) {
+        throw InputError(reader_->path() + ": changed while open (" + e.what() + ")");
+    }
+}
+
+}  // namespace terracast

@@ -1,0 +1,51 @@
+// A DEM held as tiles read on demand (docs/architecture.md, "Tiled grids"): opening streams the raster once, a
+// band of rows at a time, for the grid's summary; each tile is then one windowed read through GDAL, kept in a
+// least-recently-used cache bounded in bytes. Nothing in proportion to the raster is ever held.
+#pragma once
+
+#include "heightfield/grid_summary.h"
+#include "heightfield/height_tile.h"
+#include "heightfield/tile_cache.h"
+#include "loaders/dem_loader.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace terracast {
+
+class TiledDem {
+public:
+    // Opens `path` and streams it once; throws InputError as loadDem does (but never for the raster's size).
+    TiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options = {});
+
+    const DemWindowReader& reader() const { return *reader_; }
+    const GridSummary& summary() const { return summary_; }
+    const TileLayout& layout() const { return layout_; }
+
+    // Tile (ti, tj), from the cache or read now.
+    std::shared_ptr<const HeightTile> tile(int64_t ti, int64_t tj) const;
+
+    // Single values through the cache (each call may read a tile): for checks and slow paths, not for rays.
+    float at(int64_t i, int64_t j) const { return vertexTile(i, j)->at(i, j); }
+    bool vertexValid(int64_t i, int64_t j) const { return vertexTile(i, j)->vertexValid(i, j); }
+    bool cellValid(int64_t i, int64_t j) const {
+        return tile(layout_.tileOfCellX(i), layout_.tileOfCellY(j))->cellValid(i, j);
+    }
+
+    TileCacheStats cacheStats() const { return cache_->stats(); }
+
+private:
+    std::shared_ptr<const HeightTile> vertexTile(int64_t i, int64_t j) const {
+        return tile(layout_.tileOfCellX(std::min(i, layout_.width - 2)), layout_.tileOfCellY(std::min(j, layout_.height - 2)));
+    }
+    std::shared_ptr<const HeightTile> readTile(int64_t key) const;
+
+    std::unique_ptr<DemWindowReader> reader_;
+    GridSummary summary_;
+    TileLayout layout_;
+    std::unique_ptr<TileCache<HeightTile>> cache_;
+};
+
+}  // namespace terracast

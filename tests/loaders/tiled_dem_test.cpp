@@ -1,0 +1,62 @@
+// A DEM held as tiles read on demand, with a cache a few tiles large: every vertex, nodata flag and cell flag is
+// the whole load's, across tile edges and nodata edges, while the cache stays within its bytes.
+#include "loaders/tiled_dem.h"
+#include "tracer/core/errors.h"
+
+#include <catch2/catch.hpp>
+
+#include <bit>
+#include <string>
+
+using namespace terracast;
+
+namespace {
+
+std::string sample(const std::string& name) { return std::string(TERRACAST_SOURCE_DIR "/data-samples/") + name; }
+
+// Every vertex and cell of the tiled DEM against the loaded grid, in an order that revisits evicted tiles.
+void checkAgainstLoad(const std::string& path, int cacheTiles) {
+    INFO(path);
+    const LoadedDem dem = loadDem(path);
+    const HeightGrid& g = dem.grid;
+    // The bytes of a full tile (the first one is full in every DEM here).
+    const size_t tileBytes = TiledDem(path, size_t(1) << 30).tile(0, 0)->bytes();
+    const size_t budget = size_t(cacheTiles) * tileBytes + tileBytes / 2;
+    const TiledDem tiled(path, budget);
+    REQUIRE(tiled.layout().width == g.width());
+    REQUIRE(tiled.layout().height == g.height());
+    CHECK(tiled.summary().storage == g.storage());
+    CHECK(tiled.summary().validCells == g.validCellCount());
+    int64_t heightsDiffer = 0, flagsDiffer = 0, cellsDiffer = 0;
+    // Columns first: each column of vertices crosses every tile row, so tiles are evicted and read again.
+    for (int64_t i = 0; i < g.width(); ++i)
+        for (int64_t j = 0; j < g.height(); ++j) {
+            const bool valid = g.vertexValid(i, j);
+            flagsDiffer += tiled.vertexValid(i, j) != valid;
+            if (valid) heightsDiffer += std::bit_cast<uint32_t>(tiled.at(i, j)) != std::bit_cast<uint32_t>(g.at(i, j));
+            if (i < g.cellsX() && j < g.cellsY()) cellsDiffer += tiled.cellValid(i, j) != g.cellValid(i, j);
+        }
+    CHECK(heightsDiffer == 0);
+    CHECK(flagsDiffer == 0);
+    CHECK(cellsDiffer == 0);
+    const TileCacheStats stats = tiled.cacheStats();
+    INFO(stats.loads << " tile reads, " << stats.evictions << " evictions, peak " << stats.peakBytes << " bytes");
+    CHECK(stats.peakBytes <= budget);
+    if (tiled.layout().tileCount() > cacheTiles) CHECK(stats.evictions > 0);
+}
+
+}  // namespace
+
+TEST_CASE("Tiled DEM: every vertex and cell flag equals the whole load's with a cache of a few tiles",
+          "[loaders][tiles]") {
+    // St Helens: 2 x 2 tiles (the edge ones part-filled), nodata along its edges; the White Mountains: 5 x 5 tiles, geographic; Nice: sea
+    // and land in a geographic tile.
+    checkAgainstLoad(sample("usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif"), 1);
+    checkAgainstLoad(sample("N44W072.srtm3-white-mountains-nh.hgt"), 3);
+    checkAgainstLoad(sample("srtm3-n43e007-nice-maritime-alps-coast-geographic-int16.tif"), 3);
+}
+
+TEST_CASE("Tiled DEM: opening refuses what loading refuses, without reading it whole", "[loaders][tiles]") {
+    CHECK_THROWS_AS(TiledDem(sample("no-such.tif"), 1 << 20), InputError);
+    CHECK_THROWS_WITH(TiledDem(sample("README.md"), 1 << 20), Catch::Contains("README.md"));
+}
