@@ -134,6 +134,13 @@ bool int16RoundTrips(float z, double scale) {
     return std::bit_cast<uint32_t>(float(r * scale)) == std::bit_cast<uint32_t>(z);
 }
 
+std::optional<int16_t> int16Code(float z, double scale, int32_t offset) {
+    if (!int16RoundTrips(z, scale)) return std::nullopt;
+    const int64_t c = int64_t(std::round(double(z) / scale)) - offset;
+    if (c < kLowestCode || c > std::numeric_limits<int16_t>::max()) return std::nullopt;
+    return int16_t(c);
+}
+
 bool HeightGrid::tryInt16(double s) {
     const auto codeOffset = int16CodeOffset(minHeightM_, maxHeightM_, s);
     if (!codeOffset) return false;
@@ -143,11 +150,9 @@ bool HeightGrid::tryInt16(double s) {
     const float* h = heightsM_.data();
     // The code for height z, or false when no code in range decodes to exactly z's bits.
     auto encode = [&](float z, int32_t& code) {
-        if (!int16RoundTrips(z, s)) return false;
-        const int64_t c = int64_t(std::round(double(z) / s)) - offset;
-        if (c < kLowestCode || c > std::numeric_limits<int16_t>::max()) return false;
-        code = int32_t(c);
-        return true;
+        const auto c = int16Code(z, s, offset);
+        if (c) code = *c;
+        return c.has_value();
     };
     // First only check (stopping at the first valid height that does not round-trip, so float data costs
     // little), then encode.

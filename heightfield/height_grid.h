@@ -25,6 +25,8 @@ public:
 // multiple of `scale`) to the same bits.
 std::optional<int32_t> int16CodeOffset(float minM, float maxM, double scale);
 bool int16RoundTrips(float z, double scale);
+// The code of height z at `scale` and `offset`, when z round-trips and its code fits int16.
+std::optional<int16_t> int16Code(float z, double scale, int32_t offset);
 // The scales StoragePolicy::Auto tries, in order, given the source's unit (0 for none).
 std::vector<double> int16CandidateScales(double scaleHint);
 

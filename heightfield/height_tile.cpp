@@ -37,24 +37,14 @@ HeightTile::HeightTile(const GridSummary& summary, int64_t firstX, int64_t first
         return;
     }
     // As HeightGrid encodes: the nearest code, and the lowest code for a nodata vertex whose value has none.
-    constexpr int64_t kLowest = std::numeric_limits<int16_t>::min(), kHighest = std::numeric_limits<int16_t>::max();
     codes_.resize(n);
     for (size_t k = 0; k < n; ++k) {
-        const float z = heightsM[k];
-        const bool ok = valid == nullptr || valid[k] != 0;
-        int64_t code = kLowest;
-        if (int16RoundTrips(z, codeScale_)) {
-            const int64_t c = int64_t(std::round(double(z) / codeScale_)) - codeOffset_;
-            if (c >= kLowest && c <= kHighest) code = c;
-            else if (ok) code = kHighest + 1;
-        } else if (ok) {
-            code = kHighest + 1;
-        }
-        if (code > kHighest)
+        const auto code = int16Code(heightsM[k], codeScale_, codeOffset_);
+        if (!code && (valid == nullptr || valid[k] != 0))
             throw GridError("tile at vertex (" + std::to_string(firstX + int64_t(k) % verticesX) + ", " +
-                            std::to_string(firstY + int64_t(k) / verticesX) + "): height " + std::to_string(z) +
-                            " has no int16 code at the grid's scale");
-        codes_[k] = int16_t(code);
+                            std::to_string(firstY + int64_t(k) / verticesX) + "): height " +
+                            std::to_string(heightsM[k]) + " has no int16 code at the grid's scale");
+        codes_[k] = code.value_or(std::numeric_limits<int16_t>::min());
     }
 }
 

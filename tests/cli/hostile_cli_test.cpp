@@ -315,6 +315,19 @@ std::vector<std::pair<std::string, std::vector<std::string>>> demCommands() {
             {"compare", {"--size", "32x24"}}};
 }
 
+// Each input (what it is, then its file and the message expected) through every command that reads a DEM.
+std::vector<Case> acrossDemCommands(
+    const std::vector<std::pair<std::string, std::pair<std::string, std::string>>>& inputs) {
+    std::vector<Case> cases;
+    for (const auto& [command, options] : demCommands())
+        for (const auto& [what, input] : inputs) {
+            Case c{command + ": " + what, {command, input.first}, 2, input.second};
+            c.args.insert(c.args.end(), options.begin(), options.end());
+            cases.push_back(c);
+        }
+    return cases;
+}
+
 }  // namespace
 
 TEST_CASE("Hostile inputs: DEMs that are not regular readable rasters", "[cli][hostile]") {
@@ -332,14 +345,7 @@ TEST_CASE("Hostile inputs: DEMs that are not regular readable rasters", "[cli][h
         {"DEM is complex-valued", {"complex.tif", "band 1 holds complex numbers (CFloat32), expected real heights"}},
         {"DEM name holds a newline", {"new\nline.tif", "new\\nline.tif: no such file"}},
     };
-    std::vector<Case> cases;
-    for (const auto& [command, options] : demCommands())
-        for (const auto& [what, input] : inputs) {
-            Case c{command + ": " + what, {command, input.first}, 2, input.second};
-            c.args.insert(c.args.end(), options.begin(), options.end());
-            cases.push_back(c);
-        }
-    runCases("dem-inputs", cases);
+    runCases("dem-inputs", acrossDemCommands(inputs));
 }
 
 TEST_CASE("Hostile inputs: DEMs cut short, corrupted, or holding impossible heights and georeferences",
@@ -360,14 +366,7 @@ TEST_CASE("Hostile inputs: DEMs cut short, corrupted, or holding impossible heig
         {"a NaN origin", {"nan-origin.tif", "nan-origin.tif: geotransform term 0 is nan, expected a finite coordinate"}},
         {"nanometre cells", {"nanometre-cells.tif", "nanometre-cells.tif: cell size 1e-09 x 1e-09 m, expected 1e-06 m to 1e+06 m"}},
     };
-    std::vector<Case> cases;
-    for (const auto& [command, options] : demCommands())
-        for (const auto& [what, input] : inputs) {
-            Case c{command + ": " + what, {command, input.first}, 2, input.second};
-            c.args.insert(c.args.end(), options.begin(), options.end());
-            cases.push_back(c);
-        }
-    runCases("dem-content", cases);
+    runCases("dem-content", acrossDemCommands(inputs));
 }
 
 TEST_CASE("Hostile scene files: impossible values, broken text, and outputs over inputs", "[cli][hostile]") {
