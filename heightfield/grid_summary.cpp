@@ -1,5 +1,7 @@
 #include "heightfield/grid_summary.h"
 
+#include "heightfield/height_tile.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -11,7 +13,12 @@ namespace terracast {
 GridSummaryBuilder::GridSummaryBuilder(int64_t width, int64_t height, double scaleHint)
     : width_(width), height_(height), previousValid_(size_t(std::max<int64_t>(width, 0)), 1),
       scales_(int16CandidateScales(scaleHint)), roundTrips_(scales_.size(), 1),
-      lo_(std::numeric_limits<float>::infinity()), hi_(-std::numeric_limits<float>::infinity()) {}
+      lo_(std::numeric_limits<float>::infinity()), hi_(-std::numeric_limits<float>::infinity()) {
+    const TileLayout layout{std::max<int64_t>(width, 2), std::max<int64_t>(height, 2)};
+    tilesX_ = layout.tilesX();
+    tileHigh_.assign(size_t(layout.tileCount()), hi_);
+    tileLow_.assign(size_t(layout.tileCount()), lo_);
+}
 
 void GridSummaryBuilder::addRows(int64_t j0, int64_t rows, const float* heightsM, const uint8_t* valid) {
     if (j0 != nextRow_ || rows < 0 || j0 + rows > height_)
@@ -34,6 +41,21 @@ void GridSummaryBuilder::addRows(int64_t j0, int64_t rows, const float* heightsM
             hi_ = std::max(hi_, z[i]);
             for (size_t s = 0; s < scales_.size(); ++s)
                 if (roundTrips_[s] && !int16RoundTrips(z[i], scales_[s])) roundTrips_[s] = 0;
+        }
+        // The tiles the row's vertices belong to: a vertex on a tile edge belongs to both sides.
+        const int64_t tilesY = int64_t(tileHigh_.size()) / tilesX_;
+        for (int64_t tj = std::max<int64_t>(0, (j - 1) / kTileCells); tj <= std::min(j / kTileCells, tilesY - 1); ++tj) {
+            if (j < tj * kTileCells || j > (tj + 1) * kTileCells) continue;
+            for (int64_t ti = 0; ti < tilesX_; ++ti) {
+                float high = tileHigh_[size_t(tj * tilesX_ + ti)], low = tileLow_[size_t(tj * tilesX_ + ti)];
+                for (int64_t i = ti * kTileCells; i <= std::min((ti + 1) * kTileCells, width_ - 1); ++i)
+                    if (ok == nullptr || ok[i] != 0) {
+                        high = std::max(high, z[i]);
+                        low = std::min(low, z[i]);
+                    }
+                tileHigh_[size_t(tj * tilesX_ + ti)] = high;
+                tileLow_[size_t(tj * tilesX_ + ti)] = low;
+            }
         }
         // The cells of the row below this one, now that both their rows are known.
         if (j > 0)
@@ -67,6 +89,24 @@ GridSummary GridSummaryBuilder::finish() const {
         s.codeOffset = *offset;
         s.codeScale = scales_[k];
         break;
+    }
+    s.pyramid = PyramidCoding::forHeights(s.storage == HeightStorage::Int16, s.codeOffset, s.codeScale, s.minHeightM,
+                                          s.maxHeightM);
+    s.tileMaxCodes.resize(tileHigh_.size());
+    s.tileMinCodes.resize(tileLow_.size());
+    for (size_t t = 0; t < tileHigh_.size(); ++t) {
+        const bool any = tileLow_[t] <= tileHigh_[t];
+        if (!any) {
+            s.tileMaxCodes[t] = PyramidCoding::kNoMax;
+            s.tileMinCodes[t] = PyramidCoding::kNoMin;
+        } else if (s.storage == HeightStorage::Int16) {
+            // The heights' own codes, as the whole grid's pyramid holds them.
+            s.tileMaxCodes[t] = *int16Code(tileHigh_[t], s.codeScale, s.codeOffset);
+            s.tileMinCodes[t] = *int16Code(tileLow_[t], s.codeScale, s.codeOffset);
+        } else {
+            s.tileMaxCodes[t] = s.pyramid.encodeUp(tileHigh_[t]);
+            s.tileMinCodes[t] = s.pyramid.encodeDown(tileLow_[t]);
+        }
     }
     return s;
 }

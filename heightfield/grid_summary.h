@@ -20,6 +20,12 @@ struct GridSummary {
     HeightStorage storage = HeightStorage::Float32;
     int32_t codeOffset = 0;            // Int16 storage: height = (code + codeOffset) * codeScale
     double codeScale = 1.0;
+    PyramidCoding pyramid;             // the min/max pyramids' codes, as a whole grid would choose them
+    // Per tile of TileLayout (height_tile.h), row-major: the pyramid codes bounding its valid vertices from above
+    // and below (PyramidCoding::kNoMax and kNoMin for a tile without one). They are the pyramid level whose
+    // blocks are the tiles.
+    std::vector<int16_t> tileMaxCodes;
+    std::vector<int16_t> tileMinCodes;
 };
 
 class GridSummaryBuilder {
@@ -46,6 +52,9 @@ private:
     float hi_;
     int64_t nodata_ = 0;
     int64_t validCells_ = 0;
+    int64_t tilesX_ = 0;
+    std::vector<float> tileHigh_;  // per tile: the highest and lowest valid height so far
+    std::vector<float> tileLow_;
 };
 
 }  // namespace terracast

@@ -1,5 +1,8 @@
 #include "heightfield/height_grid.h"
 
+#include "heightfield/grid_summary.h"
+#include "heightfield/height_tile.h"
+
 #include <algorithm>
 #include <atomic>
 #include <bit>
@@ -184,6 +187,7 @@ bool HeightGrid::tryInt16(double s) {
 }
 
 std::vector<float> HeightGrid::copyHeights() const {
+    if (tiles_) throw GridError("this grid is held as tiles and is never copied whole");
     if (storage_ == HeightStorage::Float32) return heightsM_;
     std::vector<float> out(codes_.size());
     parallelRanges(int64_t(codes_.size()), 1, [&](int64_t k0, int64_t k1) {
@@ -196,39 +200,11 @@ void HeightGrid::buildPyramid() {
     const auto start = std::chrono::steady_clock::now();
     std::vector<std::vector<int16_t>> built;  // levels 1..n
 
-    // The codes' decoding. Int16 heights lend the pyramid their own offset and scale, so a block's code is its
-    // highest vertex code and decodes to exactly that height. Float32 heights get a scale that spreads the
-    // valid range over (a little less than) the 65536 codes, also small enough in relative terms that the
-    // integer offset fits an int32; a height is then rounded up to the first code not below it.
-    if (storage_ == HeightStorage::Int16) {
-        pyramidOffset_ = codeOffset_;
-        pyramidScale_ = codeScale_;
-    } else {
-        const double lo = minHeightM_, hi = maxHeightM_;
-        double s = std::max((hi - lo) / 65000.0, std::max(std::abs(lo), std::abs(hi)) * 0x1p-30);
-        if (!(s > 0.0) || !std::isfinite(s)) s = 1.0;
-        pyramidScale_ = s;
-        pyramidOffset_ = static_cast<int32_t>(int64_t(std::floor(lo / s)) + 32766);  // lo lands near -32766
-    }
-    pyramidCodesPerMetre_ = 1.0 / pyramidScale_;
-    auto decodeBound = [&](int32_t q) { return float(double(q + pyramidOffset_) * pyramidScale_); };
-    auto encodeUp = [&](float z) {
-        // Only a first guess: the loops below settle the code.
-        const double guess = std::ceil(double(z) * pyramidCodesPerMetre_) - double(pyramidOffset_);
-        auto q = static_cast<int32_t>(std::clamp(guess, double(kLowestCode + 1), double(kHighestCode)));
-        while (q < kHighestCode && decodeBound(q) < z) ++q;
-        while (q > kLowestCode + 1 && decodeBound(q - 1) >= z) --q;
-        return int16_t(q);
-    };
-    // The last code not above z, for the minimum pyramid (the highest code is kept for blocks without a valid
-    // vertex).
-    auto encodeDown = [&](float z) {
-        const double guess = std::floor(double(z) * pyramidCodesPerMetre_) - double(pyramidOffset_);
-        auto q = static_cast<int32_t>(std::clamp(guess, double(kLowestCode), double(kHighestCode - 1)));
-        while (q > kLowestCode && decodeBound(q) > z) --q;
-        while (q < kHighestCode - 1 && decodeBound(q + 1) <= z) ++q;
-        return int16_t(q);
-    };
+    const PyramidCoding coding = PyramidCoding::forHeights(storage_ == HeightStorage::Int16, codeOffset_, codeScale_,
+                                                           minHeightM_, maxHeightM_);
+    pyramidOffset_ = coding.offset;
+    pyramidScale_ = coding.scale;
+    pyramidCodesPerMetre_ = coding.codesPerMetre;
 
     // Level 1 straight from the vertices: block (bi, bj) covers cells 2bi..2bi+1, 2bj..2bj+1, that is
     // vertices 2bi..2bi+2, 2bj..2bj+2. A cell's own extremes take only its valid vertices, so a hole cell
@@ -273,30 +249,15 @@ void HeightGrid::buildPyramid() {
             }
         });
     };
-    // Levels 2..n, each from the one below; codes order as heights do, so the extreme code is the bound.
-    auto upperLevels = [&](std::vector<std::vector<int16_t>>& levels, int16_t none, auto pick) {
+    // Levels 2..n, each from the one below.
+    auto upperLevels = [&](std::vector<std::vector<int16_t>>& levels, bool highest) {
         int64_t bx = bx1, by = by1;
         while (bx > 1 || by > 1) {
-            const std::vector<int16_t>& prev = levels.back();
-            const int64_t px = bx, py = by;
+            levels.push_back(pyramidParentLevel(levels.back(), bx, by, highest));
             bx = (bx + 1) / 2;
             by = (by + 1) / 2;
-            std::vector<int16_t> next(static_cast<size_t>(bx * by));
-            parallelRanges(by, 4 * bx, [&](int64_t b0, int64_t b1) {
-                for (int64_t bj = b0; bj < b1; ++bj)
-                    for (int64_t bi = 0; bi < bx; ++bi) {
-                        int16_t m = none;
-                        for (int64_t j = 2 * bj; j <= std::min(2 * bj + 1, py - 1); ++j)
-                            for (int64_t i = 2 * bi; i <= std::min(2 * bi + 1, px - 1); ++i)
-                                m = pick(m, prev[size_t(j * px + i)]);
-                        next[size_t(bj * bx + bi)] = m;
-                    }
-            });
-            levels.push_back(std::move(next));
         }
     };
-    auto maxOf = [](auto a, auto b) { return std::max(a, b); };
-    auto minOf = [](auto a, auto b) { return std::min(a, b); };
     if (storage_ == HeightStorage::Int16) {
         const int16_t* codes = codes_.data();
         auto same = [](int16_t q) { return q; };
@@ -306,39 +267,120 @@ void HeightGrid::buildPyramid() {
         const float* h = heightsM_.data();
         constexpr float kInf = std::numeric_limits<float>::infinity();
         levelOne([h](int64_t k) { return h[k]; }, std::pair<float, float>(-kInf, kInf),
-                 [&](float z) { return z == -kInf ? int16_t(kLowestCode) : encodeUp(z); },
-                 [&](float z) { return z == kInf ? int16_t(kHighestCode) : encodeDown(z); });
+                 [&](float z) { return z == -kInf ? PyramidCoding::kNoMax : coding.encodeUp(z); },
+                 [&](float z) { return z == kInf ? PyramidCoding::kNoMin : coding.encodeDown(z); });
     }
     built.push_back(std::move(high1));
     std::vector<std::vector<int16_t>> lows;  // the minimum pyramid, levels 1..n
     lows.push_back(std::move(low1));
-    upperLevels(built, int16_t(kLowestCode), maxOf);
-    upperLevels(lows, int16_t(kHighestCode), minOf);
-
-    // One array for all levels, so the traversal finds a level's blocks from two small tables; the minimum
-    // pyramid keeps levels 2..n only, indexed like the maximum pyramid from level 2's start.
-    int64_t total = 0;
-    for (const auto& lv : built) total += int64_t(lv.size());
-    pyramidCodes_.clear();
-    pyramidCodes_.reserve(size_t(total));
-    pyramidMinCodes_.clear();
-    pyramidMinCodes_.reserve(size_t(total - int64_t(built[0].size())));
-    levelStart_.clear();
-    levelBlocksX_.clear();
-    levelStart_.reserve(built.size());
-    levelBlocksX_.reserve(built.size());
-    for (size_t k = 0; k < built.size(); ++k) {
-        levelStart_.push_back(int64_t(pyramidCodes_.size()));
-        levelBlocksX_.push_back(pyramidBlocksX(int(k + 1)));
-        pyramidCodes_.insert(pyramidCodes_.end(), built[k].begin(), built[k].end());
-        if (k >= 1) pyramidMinCodes_.insert(pyramidMinCodes_.end(), lows[k].begin(), lows[k].end());
-        std::vector<int16_t>().swap(built[k]);
-        std::vector<int16_t>().swap(lows[k]);
-    }
+    upperLevels(built, true);
+    upperLevels(lows, false);
+    storePyramid(built, lows, 1, int(built.size()));
     pyramidBuildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// One array for all levels, so the traversal finds a level's blocks from two small tables; the minimum pyramid
+// keeps levels 2..n only, indexed like the maximum pyramid from level 2's start. highs[k] and lows[k] are level
+// first + k, for levels first..levels; a tiled grid stores the levels above its tiles' (first > 1), and the levels below get no blocks.
+void HeightGrid::storePyramid(std::vector<std::vector<int16_t>>& highs, std::vector<std::vector<int16_t>>& lows,
+                              int first, int levels) {
+    pyramidCodes_.clear();
+    pyramidMinCodes_.clear();
+    levelStart_.clear();
+    levelBlocksX_.clear();
+    int64_t total = 0, minTotal = 0;
+    for (int k = first; k <= levels; ++k) {
+        total += int64_t(highs[size_t(k - first)].size());
+        if (k >= 2) minTotal += int64_t(lows[size_t(k - first)].size());
+    }
+    pyramidCodes_.reserve(size_t(total));
+    pyramidMinCodes_.reserve(size_t(minTotal));
+    levelStart_.reserve(size_t(levels));
+    levelBlocksX_.reserve(size_t(levels));
+    for (int k = 1; k <= levels; ++k) {
+        levelStart_.push_back(int64_t(pyramidCodes_.size()));
+        levelBlocksX_.push_back(pyramidBlocksX(k));
+        if (k < first) continue;
+        auto& high = highs[size_t(k - first)];
+        auto& low = lows[size_t(k - first)];
+        pyramidCodes_.insert(pyramidCodes_.end(), high.begin(), high.end());
+        if (k >= 2) pyramidMinCodes_.insert(pyramidMinCodes_.end(), low.begin(), low.end());
+        std::vector<int16_t>().swap(high);
+        std::vector<int16_t>().swap(low);
+    }
+}
+
+HeightGrid::HeightGrid(const GridSummary& summary, double cellSizeXM, double cellSizeYM,
+                       std::shared_ptr<const TileSource> tiles)
+    : width_(summary.width), height_(summary.height), cellSizeXM_(cellSizeXM), cellSizeYM_(cellSizeYM),
+      storage_(summary.storage), codeOffset_(summary.codeOffset), codeScale_(summary.codeScale),
+      nodataVertices_(summary.nodataVertices), validCells_(summary.validCells), minHeightM_(summary.minHeightM),
+      maxHeightM_(summary.maxHeightM), tiles_(std::move(tiles)) {
+    if (width_ < 2 || height_ < 2)
+        throw GridError("a height grid needs at least 2 x 2 vertices (one cell), got " + std::to_string(width_) +
+                        " x " + std::to_string(height_));
+    if (!(cellSizeXM_ > 0.0) || !(cellSizeYM_ > 0.0) || !std::isfinite(cellSizeXM_) || !std::isfinite(cellSizeYM_))
+        throw GridError("cell sizes must be positive and finite, got " + std::to_string(cellSizeXM_) + " x " +
+                        std::to_string(cellSizeYM_) + " m");
+    if (!tiles_) throw GridError("a tiled grid needs a tile source");
+    cellsPerMetreX_ = 1.0 / cellSizeXM_;
+    cellsPerMetreY_ = 1.0 / cellSizeYM_;
+    pyramidOffset_ = summary.pyramid.offset;
+    pyramidScale_ = summary.pyramid.scale;
+    pyramidCodesPerMetre_ = summary.pyramid.codesPerMetre;
+    const int levels = pyramidLevelCount(cellsX(), cellsY());
+    tileLevels_ = std::min(levels, kTileLevels);
+    std::vector<std::vector<int16_t>> highs, lows;
+    if (levels > kTileLevels) {
+        // The level whose blocks are the tiles, from the summary; those above, from it.
+        const TileLayout layout{width_, height_};
+        if (summary.tileMaxCodes.size() != size_t(layout.tileCount()) ||
+            summary.tileMinCodes.size() != size_t(layout.tileCount()))
+            throw GridError("a tiled grid's summary holds no bounds for its tiles");
+        highs.push_back(summary.tileMaxCodes);
+        lows.push_back(summary.tileMinCodes);
+        int64_t bx = layout.tilesX(), by = layout.tilesY();
+        while (bx > 1 || by > 1) {
+            highs.push_back(pyramidParentLevel(highs.back(), bx, by, true));
+            lows.push_back(pyramidParentLevel(lows.back(), bx, by, false));
+            bx = (bx + 1) / 2;
+            by = (by + 1) / 2;
+        }
+    }
+    storePyramid(highs, lows, kTileLevels + 1, levels);
+    if (pyramidLevels() != levels) throw GridError("a tiled grid's pyramid has the wrong number of levels");
+}
+
+float HeightGrid::tiledAt(int64_t i, int64_t j) const {
+    return tiles_->tile(std::min(i, cellsX() - 1) / kTileCells, std::min(j, cellsY() - 1) / kTileCells)->at(i, j);
+}
+
+bool HeightGrid::tiledVertexValid(int64_t i, int64_t j) const {
+    return tiles_->tile(std::min(i, cellsX() - 1) / kTileCells, std::min(j, cellsY() - 1) / kTileCells)
+        ->vertexValid(i, j);
+}
+
+bool HeightGrid::tiledCellValid(int64_t i, int64_t j) const {
+    return tiles_->tile(i / kTileCells, j / kTileCells)->cellValid(i, j);
+}
+
+double HeightGrid::blockMaxM(int k, int64_t bi, int64_t bj) const {
+    const PyramidView view = pyramidView();
+    if (tiles_ && k <= tileLevels_)
+        return view.decode(tiles_->tile((bi << k) / kTileCells, (bj << k) / kTileCells)->maxCode(k, bi, bj));
+    return view.blockMaxM(k, bi, bj);
+}
+
+double HeightGrid::blockMinM(int k, int64_t bi, int64_t bj) const {
+    if (k < 2) return -std::numeric_limits<double>::infinity();
+    const PyramidView view = pyramidView();
+    if (tiles_ && k <= tileLevels_)
+        return view.decode(tiles_->tile((bi << k) / kTileCells, (bj << k) / kTileCells)->minCode(k, bi, bj));
+    return view.blockMinM(k, bi, bj);
+}
+
 void HeightGrid::scaleHeights(float k) {
+    if (tiles_) throw GridError("vertical exaggeration needs the whole grid in memory; this one is held as tiles");
     if (!std::isfinite(k) || k <= 0.0f)
         throw GridError("vertical exaggeration must be positive and finite, got " + std::to_string(k));
     // Scale in float exactly as a Float32 grid would, then let the storage be chosen again; the scaled source
@@ -361,6 +403,71 @@ size_t HeightGrid::memoryBytes() const {
                            (levelStart_.capacity() + levelBlocksX_.capacity()) * sizeof(int64_t);
     return heightsM_.capacity() * sizeof(float) + codes_.capacity() * sizeof(int16_t) +
            (valid_.capacity() + cellValid_.capacity()) * sizeof(uint64_t) + pyramid;
+}
+
+PyramidCoding PyramidCoding::forHeights(bool int16Storage, int32_t codeOffset, double codeScale, float minM,
+                                        float maxM) {
+    PyramidCoding c;
+    if (int16Storage) {
+        c.offset = codeOffset;
+        c.scale = codeScale;
+    } else {
+        // A scale small enough in relative terms that the integer offset fits an int32; a height is rounded to
+        // the first code not below it (above it, for the minimum pyramid).
+        const double lo = minM, hi = maxM;
+        double s = std::max((hi - lo) / 65000.0, std::max(std::abs(lo), std::abs(hi)) * 0x1p-30);
+        if (!(s > 0.0) || !std::isfinite(s)) s = 1.0;
+        c.scale = s;
+        c.offset = static_cast<int32_t>(int64_t(std::floor(lo / s)) + 32766);  // lo lands near -32766
+    }
+    c.codesPerMetre = 1.0 / c.scale;
+    return c;
+}
+
+int16_t PyramidCoding::encodeUp(float z) const {
+    auto value = [&](int32_t q) { return float(double(q + offset) * scale); };
+    // Only a first guess: the loops settle the code.
+    const double guess = std::ceil(double(z) * codesPerMetre) - double(offset);
+    auto q = static_cast<int32_t>(std::clamp(guess, double(kLowestCode + 1), double(kHighestCode)));
+    while (q < kHighestCode && value(q) < z) ++q;
+    while (q > kLowestCode + 1 && value(q - 1) >= z) --q;
+    return int16_t(q);
+}
+
+int16_t PyramidCoding::encodeDown(float z) const {
+    auto value = [&](int32_t q) { return float(double(q + offset) * scale); };
+    const double guess = std::floor(double(z) * codesPerMetre) - double(offset);
+    auto q = static_cast<int32_t>(std::clamp(guess, double(kLowestCode), double(kHighestCode - 1)));
+    while (q > kLowestCode && value(q) > z) --q;
+    while (q < kHighestCode - 1 && value(q + 1) <= z) ++q;
+    return int16_t(q);
+}
+
+std::vector<int16_t> pyramidParentLevel(const std::vector<int16_t>& level, int64_t px, int64_t py, bool highest) {
+    const int64_t bx = (px + 1) / 2, by = (py + 1) / 2;
+    const int16_t none = highest ? PyramidCoding::kNoMax : PyramidCoding::kNoMin;
+    std::vector<int16_t> next(static_cast<size_t>(bx * by));
+    // Codes order as heights do, so the extreme code is the bound.
+    parallelRanges(by, 4 * bx, [&](int64_t b0, int64_t b1) {
+        for (int64_t bj = b0; bj < b1; ++bj)
+            for (int64_t bi = 0; bi < bx; ++bi) {
+                int16_t m = none;
+                for (int64_t j = 2 * bj; j <= std::min(2 * bj + 1, py - 1); ++j)
+                    for (int64_t i = 2 * bi; i <= std::min(2 * bi + 1, px - 1); ++i) {
+                        const int16_t c = level[size_t(j * px + i)];
+                        m = highest ? std::max(m, c) : std::min(m, c);
+                    }
+                next[size_t(bj * bx + bi)] = m;
+            }
+    });
+    return next;
+}
+
+int pyramidLevelCount(int64_t cellsX, int64_t cellsY) {
+    int levels = 1;
+    while (((cellsX + (int64_t(1) << levels) - 1) >> levels) > 1 || ((cellsY + (int64_t(1) << levels) - 1) >> levels) > 1)
+        ++levels;
+    return levels;
 }
 
 }  // namespace terracast

@@ -2,10 +2,13 @@
 // or as int16 codes with an integer offset and a scale when that reproduces every valid height exactly.
 #pragma once
 
+#include "heightfield/tile_cache.h"
+
 #include <glm/glm.hpp>
 
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -19,6 +22,18 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// The height an int16 code stands for: float(double(code + offset) * scale), rounded to float here whatever the
+// caller does with it next. The empty asm makes the float a value the compiler must produce: GCC 12, compiling
+// the traversal kernels for AVX2, dropped the float rounding of vectorised decodes whose results went on in
+// double (tests/heightfield/kernel_isa_test.cpp, the tenths grid).
+inline float decodeHeightCode(int32_t code, int32_t offset, double scale) {
+    float z = float(double(code + offset) * scale);
+#if defined(__GNUC__) && defined(__x86_64__)
+    asm("" : "+x"(z));
+#endif
+    return z;
+}
+
 // The int16 encoding of heights (HeightStorage::Int16), shared by whole grids and by grids read a band at a
 // time: the code offset that gives the lowest height of [minM, maxM] the lowest code, or none when the range
 // needs more than 65536 codes at `scale` metres per code; and whether height z decodes from its code (the nearest
@@ -29,6 +44,43 @@ bool int16RoundTrips(float z, double scale);
 std::optional<int16_t> int16Code(float z, double scale, int32_t offset);
 // The scales StoragePolicy::Auto tries, in order, given the source's unit (0 for none).
 std::vector<double> int16CandidateScales(double scaleHint);
+
+// The codes of the min/max pyramids (HeightGrid::pyramidView): int16 values decoding to
+// float(double(code + offset) * scale). Shared by whole grids, their tiles and streamed summaries, so that each
+// bound comes out the same bits whichever built it.
+struct PyramidCoding {
+    static constexpr int16_t kNoMax = std::numeric_limits<int16_t>::min();  // a block without a valid vertex
+    static constexpr int16_t kNoMin = std::numeric_limits<int16_t>::max();
+    int32_t offset = 0;
+    double scale = 1.0;
+    double codesPerMetre = 1.0;  // 1 / scale
+
+    // Int16 heights lend the pyramid their own offset and scale, so a block's code is its highest (lowest)
+    // vertex code; float32 heights in [minM, maxM] get a scale spreading the range over most of the codes.
+    static PyramidCoding forHeights(bool int16Storage, int32_t codeOffset, double codeScale, float minM, float maxM);
+    double decode(int32_t q) const { return double(decodeHeightCode(q, offset, scale)); }
+    int16_t encodeUp(float z) const;    // the first code whose value is not below z (never kNoMax)
+    int16_t encodeDown(float z) const;  // the last code whose value is not above z (never kNoMin)
+};
+// The next pyramid level from a level of px x py blocks: each block the highest (`highest`) or lowest code of
+// its up to 2 x 2 children, `none` where it has none.
+std::vector<int16_t> pyramidParentLevel(const std::vector<int16_t>& level, int64_t px, int64_t py, bool highest);
+// Pyramid levels of a grid of cellsX x cellsY cells: halving until one block covers it (at least 1).
+int pyramidLevelCount(int64_t cellsX, int64_t cellsY);
+
+class HeightTile;
+struct GridSummary;
+
+// Where a tiled grid's tiles come from (docs/architecture.md, "Tiled grids"): tile (ti, tj) holds cells
+// [ti * kTileCells, (ti + 1) * kTileCells) x .. (height_tile.h). Must be safe to call from several threads.
+class TileSource {
+public:
+    virtual ~TileSource() = default;
+    virtual std::shared_ptr<const HeightTile> tile(int64_t ti, int64_t tj) const = 0;
+    // What the source's cache holds and did so far, and the bytes it may hold.
+    virtual TileCacheStats cacheStats() const = 0;
+    virtual size_t cacheBudgetBytes() const = 0;
+};
 
 // How the heights are held in memory.
 enum class HeightStorage {
@@ -57,6 +109,16 @@ public:
     HeightGrid(int64_t width, int64_t height, double cellSizeXM, double cellSizeYM, std::vector<float> heightsM,
                std::vector<uint8_t> valid = {}, StoragePolicy policy = StoragePolicy::Auto, double scaleHint = 0.0);
 
+    // A tiled grid: the heights stay in `tiles`, read as rays need them; the grid keeps the summary's range,
+    // counts and storage, and the pyramid levels above those the tiles hold. `summary` must describe the tiles.
+    HeightGrid(const GridSummary& summary, double cellSizeXM, double cellSizeYM, std::shared_ptr<const TileSource> tiles);
+
+    // Tiled grids: the source, and the pyramid levels each tile holds (1..tileLevels(); the grid holds the rest).
+    bool tiled() const { return tiles_ != nullptr; }
+    const TileSource* tileSource() const { return tiles_.get(); }
+    const std::shared_ptr<const TileSource>& sharedTileSource() const { return tiles_; }
+    int tileLevels() const { return tileLevels_; }
+
     int64_t width() const { return width_; }    // vertices along x
     int64_t height() const { return height_; }  // vertices along y
     int64_t cellsX() const { return width_ - 1; }
@@ -67,20 +129,36 @@ public:
     double cellsPerMetreY() const { return cellsPerMetreY_; }
 
     float at(int64_t i, int64_t j) const {
+        if (tiles_) [[unlikely]]
+            return tiledAt(i, j);
         const auto k = static_cast<size_t>(j * width_ + i);
         return storage_ == HeightStorage::Int16 ? decode(codes_[k]) : heightsM_[k];
     }
-    bool vertexValid(int64_t i, int64_t j) const { return valid_.empty() || bit(valid_, j * width_ + i); }
+    bool vertexValid(int64_t i, int64_t j) const {
+        if (tiles_) [[unlikely]]
+            return tiledVertexValid(i, j);
+        return valid_.empty() || bit(valid_, j * width_ + i);
+    }
     // True when all four corners of cell (i, j) are valid.
-    bool cellValid(int64_t i, int64_t j) const { return cellValid_.empty() || bit(cellValid_, j * cellsX() + i); }
+    bool cellValid(int64_t i, int64_t j) const {
+        if (tiles_) [[unlikely]]
+            return tiledCellValid(i, j);
+        return cellValid_.empty() || bit(cellValid_, j * cellsX() + i);
+    }
+    // The cell flags, one bit per cell row-major, or null when every cell is valid; whole grids only.
+    const uint64_t* cellValidBits() const { return cellValid_.empty() ? nullptr : cellValid_.data(); }
 
-    // The storage chosen, and raw access for hot loops (row-major, row j = southmost first).
+    // The storage chosen, and raw access for hot loops (row-major, row j = southmost first); null for a tiled
+    // grid.
     HeightStorage storage() const { return storage_; }
-    const float* float32Heights() const { return storage_ == HeightStorage::Float32 ? heightsM_.data() : nullptr; }
-    const int16_t* int16Codes() const { return storage_ == HeightStorage::Int16 ? codes_.data() : nullptr; }
+    const float* float32Heights() const {
+        return storage_ == HeightStorage::Float32 && !tiles_ ? heightsM_.data() : nullptr;
+    }
+    const int16_t* int16Codes() const { return storage_ == HeightStorage::Int16 && !tiles_ ? codes_.data() : nullptr; }
     int32_t codeOffset() const { return codeOffset_; }  // meaningful for Int16 storage only
     double codeScale() const { return codeScale_; }     // metres per code step; Int16 storage only
-    // Every vertex's height as float (nodata vertices hold an unspecified finite or given value).
+    // Every vertex's height as float (nodata vertices hold an unspecified finite or given value). Throws
+    // GridError for a tiled grid, which is never held whole.
     std::vector<float> copyHeights() const;
     bool hasNodata() const { return !valid_.empty(); }
     int64_t nodataVertexCount() const { return nodataVertices_; }
@@ -94,10 +172,11 @@ public:
     double extentXM() const { return static_cast<double>(cellsX()) * cellSizeXM_; }
     double extentYM() const { return static_cast<double>(cellsY()) * cellSizeYM_; }
 
-    // Multiplies every height by k (vertical exaggeration).
+    // Multiplies every height by k (vertical exaggeration). Throws GridError for a tiled grid.
     void scaleHeights(float k);
 
-    // Bytes held by the grid's own arrays (heights, masks and the pyramids), by capacity.
+    // Bytes held by the grid's own arrays (heights, masks and the pyramids), by capacity; for a tiled grid, its
+    // resident pyramid levels only (the tiles are the source's).
     size_t memoryBytes() const;
 
     // The maximum pyramid (Tevs, Ihrke, Seidel 2008, "Maximum mipmaps for fast, accurate, and scalable
@@ -112,17 +191,15 @@ public:
     int64_t pyramidBlocksX(int k) const { return (cellsX() + (int64_t(1) << k) - 1) >> k; }
     int64_t pyramidBlocksY(int k) const { return (cellsY() + (int64_t(1) << k) - 1) >> k; }
     // An upper bound on the valid heights in block (bi, bj) of level k (1 <= k <= pyramidLevels()).
-    double blockMaxM(int k, int64_t bi, int64_t bj) const { return pyramidView().blockMaxM(k, bi, bj); }
+    double blockMaxM(int k, int64_t bi, int64_t bj) const;
     // The minimum pyramid, from level 2 up (level 1 would cost half a byte per cell and save little): a
     // lower bound on the valid heights in block (bi, bj) of level k (2 <= k <= pyramidLevels()), in the same
     // codes rounded down; a block without a valid vertex gets the highest code. It lets a ray that runs under
     // the surface (one entering the grid through a side, below the terrain) pass whole blocks.
     // Below level 2 the bound is -infinity.
-    double blockMinM(int k, int64_t bi, int64_t bj) const {
-        return k < 2 ? -std::numeric_limits<double>::infinity() : pyramidView().blockMinM(k, bi, bj);
-    }
+    double blockMinM(int k, int64_t bi, int64_t bj) const;
 
-    // The pyramid's arrays, for hot loops.
+    // The pyramid's arrays, for hot loops. A tiled grid's view holds the levels above tileLevels() only.
     struct PyramidView {
         const int16_t* codes;     // all levels, level 1 first
         const int16_t* minCodes;  // the minimum pyramid, levels 2..n: level k's blocks from start[k - 1] - start[1]
@@ -137,7 +214,7 @@ public:
         }
         double blockMaxM(int k, int64_t bi, int64_t bj) const { return decode(code(k, bi, bj)); }
         double blockMinM(int k, int64_t bi, int64_t bj) const { return decode(minCode(k, bi, bj)); }
-        double decode(int16_t q) const { return double(float(double(int32_t(q) + offset) * scale)); }
+        double decode(int16_t q) const { return double(decodeHeightCode(q, offset, scale)); }
     };
     PyramidView pyramidView() const {
         return {pyramidCodes_.data(), pyramidMinCodes_.data(), levelStart_.data(), levelBlocksX_.data(),
@@ -148,7 +225,12 @@ private:
     static bool bit(const std::vector<uint64_t>& bits, int64_t k) {
         return (bits[static_cast<size_t>(k) >> 6] >> (k & 63)) & 1u;
     }
-    float decode(int16_t q) const { return float(double(int32_t(q) + codeOffset_) * codeScale_); }
+    float decode(int16_t q) const { return decodeHeightCode(q, codeOffset_, codeScale_); }
+    float tiledAt(int64_t i, int64_t j) const;
+    bool tiledVertexValid(int64_t i, int64_t j) const;
+    bool tiledCellValid(int64_t i, int64_t j) const;
+    void storePyramid(std::vector<std::vector<int16_t>>& highs, std::vector<std::vector<int16_t>>& lows, int first,
+                      int levels);
     void finish();
     bool tryInt16(double scale);
     void chooseStorage();
@@ -181,6 +263,8 @@ private:
     double pyramidScale_ = 1.0;
     double pyramidCodesPerMetre_ = 1.0;  // 1 / pyramidScale_
     double pyramidBuildSeconds_ = 0.0;
+    std::shared_ptr<const TileSource> tiles_;  // tiled grids only
+    int tileLevels_ = 0;
 };
 
 }  // namespace terracast

@@ -16,6 +16,9 @@ namespace terracast {
 
 // Cells along each side of a tile.
 inline constexpr int64_t kTileCells = 256;
+// Pyramid levels a tile holds (1 to 7); level 8's blocks are the tiles themselves, held by the grid.
+inline constexpr int kTileLevels = 7;
+static_assert(kTileCells == int64_t(1) << (kTileLevels + 1));
 
 // Where the tiles of a W x H vertex grid lie: tile (ti, tj) holds cells ti * kTileCells .. and the vertices
 // from ti * kTileCells to (ti + 1) * kTileCells inclusive, clipped to the grid.
@@ -41,7 +44,8 @@ struct TileLayout {
 class HeightTile {
 public:
     // Encodes the tile's vertices (row-major from its first row; `valid` null when all are valid) in the storage
-    // `summary` chose for the whole grid. Throws GridError for a valid height that storage cannot hold exactly,
+    // `summary` chose for the whole grid, and builds its pyramid levels (1 to kTileLevels, as far as the grid has
+    // them) in the grid's pyramid codes. Throws GridError for a valid height that storage cannot hold exactly,
     // which means the heights are not those the summary was made from.
     HeightTile(const GridSummary& summary, int64_t firstX, int64_t firstY, int64_t verticesX, int64_t verticesY,
                const float* heightsM, const uint8_t* valid);
@@ -54,7 +58,7 @@ public:
     // At grid vertex (i, j), which must lie in the tile.
     float at(int64_t i, int64_t j) const {
         const auto k = static_cast<size_t>((j - firstY_) * verticesX_ + (i - firstX_));
-        return codes_.empty() ? heightsM_[k] : float(double(int32_t(codes_[k]) + codeOffset_) * codeScale_);
+        return codes_.empty() ? heightsM_[k] : decodeHeightCode(codes_[k], codeOffset_, codeScale_);
     }
     bool vertexValid(int64_t i, int64_t j) const {
         return valid_.empty() || bit(valid_, (j - firstY_) * verticesX_ + (i - firstX_));
@@ -63,10 +67,20 @@ public:
     bool cellValid(int64_t i, int64_t j) const {
         return cellValid_.empty() || bit(cellValid_, (j - firstY_) * (verticesX_ - 1) + (i - firstX_));
     }
+    // The grid's pyramid codes (HeightGrid::PyramidView) for block (bi, bj) of level k, one of the tile's:
+    // 1 <= k <= levels() (2 <= k for the minimum).
+    int levels() const { return levels_; }
+    int16_t maxCode(int k, int64_t bi, int64_t bj) const { return maxCodes_[blockIndex(k, bi, bj)]; }
+    int16_t minCode(int k, int64_t bi, int64_t bj) const { return minCodes_[blockIndex(k, bi, bj)]; }
     // Bytes held, by capacity.
     size_t bytes() const;
 
 private:
+    size_t blockIndex(int k, int64_t bi, int64_t bj) const {
+        return static_cast<size_t>(levelStart_[k - 1] + (bj - (firstY_ >> k)) * levelBlocksX_[k - 1] +
+                                   (bi - (firstX_ >> k)));
+    }
+    void buildPyramid(const GridSummary& summary);
     static bool bit(const std::vector<uint64_t>& bits, int64_t k) {
         return (bits[static_cast<size_t>(k) >> 6] >> (k & 63)) & 1u;
     }
@@ -81,6 +95,11 @@ private:
     double codeScale_ = 1.0;
     std::vector<uint64_t> valid_;      // one bit per vertex; empty when all valid
     std::vector<uint64_t> cellValid_;  // one bit per cell; empty when all valid
+    int levels_ = 0;
+    std::vector<int16_t> maxCodes_;  // levels 1..levels_, each row-major, one after the other
+    std::vector<int16_t> minCodes_;  // laid out alike (level 1's entries unused)
+    int64_t levelStart_[kTileLevels] = {};
+    int64_t levelBlocksX_[kTileLevels] = {};
 };
 
 }  // namespace terracast

@@ -213,6 +213,10 @@ double walkHorizon(const HeightGrid& g, double x0, double y0, double z0, bool on
                                           dv > 0.0 ? walk.atY(ny) : dv < 0.0 ? walk.atY(0) : kInf));
     const double top = g.maxHeightM();
     const auto pyramid = g.pyramidView();
+    const bool tiled = g.tiled();  // a tiled grid's lower levels are in its tiles
+    auto blockMax = [&](int k, int64_t bi, int64_t bj) {
+        return tiled ? g.blockMaxM(k, bi, bj) : pyramid.blockMaxM(k, bi, bj);
+    };
     const int levels = g.pyramidLevels();
     auto cannotRaise = [&](double bound, double t, double tFar) { return !walk.canRaise(bound, t, tFar); };
     double t = 0.0;
@@ -230,7 +234,7 @@ double walkHorizon(const HeightGrid& g, double x0, double y0, double z0, bool on
                 const double txb = walk.atX(du > 0.0 ? (bi + 1) << lv : bi << lv);
                 const double tyb = walk.atY(dv > 0.0 ? (bj + 1) << lv : bj << lv);
                 tOut = std::min(txb, tyb);
-                if (tOut > t && cannotRaise(pyramid.blockMaxM(lv, bi, bj), t, std::min(tOut, tEnd))) {
+                if (tOut > t && cannotRaise(blockMax(lv, bi, bj), t, std::min(tOut, tEnd))) {
                     skip = true;
                     // The cell the line is in just past the block: across the side it leaves by, and along the
                     // other axis the one whose stretch holds tOut (from the same exit parameters as a cell step).

@@ -2,6 +2,7 @@
 
 #include "heightfield/cell_intersectors.h"
 #include "heightfield/dda.h"
+#include "heightfield/height_tile.h"
 
 #include <array>
 #include <atomic>

@@ -9,28 +9,81 @@ enum class Shape { Bilinear, Triangles, Nearest };
 template <class Real>
 using Wide = std::conditional_t<(sizeof(Real) > sizeof(double)), Real, double>;
 
+// What the walk reads besides heights: cell flags and pyramid codes. A whole grid's are in its arrays.
+struct ResidentGrid {
+    const uint64_t* cellBits;  // one bit per cell, row-major; null when every cell is valid
+    int64_t cellsX;
+    HeightGrid::PyramidView pyramid;
+    bool cellValid(int64_t i, int64_t j) const {
+        if (!cellBits) return true;
+        const int64_t k = j * cellsX + i;
+        return (cellBits[k >> 6] >> (k & 63)) & 1u;
+    }
+    int16_t code(int k, int64_t bi, int64_t bj) const { return pyramid.code(k, bi, bj); }
+    int16_t minCode(int k, int64_t bi, int64_t bj) const { return pyramid.minCode(k, bi, bj); }
+};
+ResidentGrid residentGrid(const HeightGrid& g) { return {g.cellValidBits(), g.cellsX(), g.pyramidView()}; }
+
 // Height access in the hot loop, one kind per storage, each returning exactly HeightGrid::at's value.
-struct Float32Heights {
+struct Float32Heights : ResidentGrid {
     const float* h;
     int64_t width;
     float operator()(int64_t i, int64_t j) const { return h[j * width + i]; }
     void prefetch(int64_t i, int64_t j) const { __builtin_prefetch(h + (j * width + i)); }
 };
-struct Int16Heights {
+struct Int16Heights : ResidentGrid {
     const int16_t* q;
     int64_t width;
     int32_t offset;
     double scale;
-    float operator()(int64_t i, int64_t j) const { return float(double(int32_t(q[j * width + i]) + offset) * scale); }
+    float operator()(int64_t i, int64_t j) const { return decodeHeightCode(q[j * width + i], offset, scale); }
     void prefetch(int64_t i, int64_t j) const { __builtin_prefetch(q + (j * width + i)); }
 };
 // One metre per code: the decoded height is the integer itself (exact in float below 2^24 m).
-struct Int16UnitHeights {
+struct Int16UnitHeights : ResidentGrid {
     const int16_t* q;
     int64_t width;
     int32_t offset;
     float operator()(int64_t i, int64_t j) const { return float(int32_t(q[j * width + i]) + offset); }
     void prefetch(int64_t i, int64_t j) const { __builtin_prefetch(q + (j * width + i)); }
+};
+// A tiled grid's (docs/architecture.md, "Tiled grids"): heights, cell flags and the lower pyramid levels come
+// from the tile holding the cell, the levels above from the grid. One accessor serves one thread's traces: it
+// keeps the last tile it used, so a walk asks the source only when it moves to another tile. Values are the
+// tile's, which holds them as the whole grid would: the walk takes the same steps and finds the same hits.
+struct TiledHeights {
+    const TileSource* source;
+    HeightGrid::PyramidView resident;  // levels above tileLevels
+    int tileLevels;
+    int64_t cellsX, cellsY;
+    mutable std::shared_ptr<const HeightTile> tile{};
+    mutable int64_t x0 = 1, x1 = 0, y0 = 1, y1 = 0;  // the current tile's cells, inclusive
+
+    // The tile holding cell (i, j).
+    const HeightTile& cellTile(int64_t i, int64_t j) const {
+        if (i < x0 || i > x1 || j < y0 || j > y1) [[unlikely]] {
+            tile = source->tile(i / kTileCells, j / kTileCells);
+            x0 = tile->firstX();
+            y0 = tile->firstY();
+            x1 = x0 + tile->verticesX() - 2;
+            y1 = y0 + tile->verticesY() - 2;
+        }
+        return *tile;
+    }
+    // Vertex (i, j): the current tile when it holds the vertex (it holds its cells' far edges too).
+    float operator()(int64_t i, int64_t j) const {
+        if (i < x0 || i > x1 + 1 || j < y0 || j > y1 + 1) [[unlikely]]
+            return cellTile(std::min(i, cellsX - 1), std::min(j, cellsY - 1)).at(i, j);
+        return tile->at(i, j);
+    }
+    void prefetch(int64_t, int64_t) const {}
+    bool cellValid(int64_t i, int64_t j) const { return cellTile(i, j).cellValid(i, j); }
+    int16_t code(int k, int64_t bi, int64_t bj) const {
+        return k > tileLevels ? resident.code(k, bi, bj) : cellTile(bi << k, bj << k).maxCode(k, bi, bj);
+    }
+    int16_t minCode(int k, int64_t bi, int64_t bj) const {
+        return k > tileLevels ? resident.minCode(k, bi, bj) : cellTile(bi << k, bj << k).minCode(k, bi, bj);
+    }
 };
 
 // The corners of a cell (as read, exact in double) relative to its own h00. Cell math runs on heights relative
@@ -385,11 +438,11 @@ struct Walk {
         if (counting && counters) ++counters->cellsVisited;
         // Along a grid line, the edge the ray runs on belongs to the valid cell beside a hole too (for the surfaces
         // through the vertices; nearest's flat squares have no shared edge).
-        if (shape != Shape::Nearest && !g.cellValid(ci, cj)) {
-            if (altI >= 0 && g.cellValid(altI, cj)) ci = altI;
-            else if (altJ >= 0 && g.cellValid(ci, altJ)) cj = altJ;
+        if (shape != Shape::Nearest && !at.cellValid(ci, cj)) {
+            if (altI >= 0 && at.cellValid(altI, cj)) ci = altI;
+            else if (altJ >= 0 && at.cellValid(ci, altJ)) cj = altJ;
         }
-        if (!g.cellValid(ci, cj)) {
+        if (!at.cellValid(ci, cj)) {
             hasCarriedG = false;
             // A corner pass: the segment clips the hole cell by less than 1e-7 of a cell (rounding of t).
             if ((tExit - tEnter) * (std::abs(dg.x) + std::abs(dg.y)) > 1e-7) cornerG.reset();
@@ -515,10 +568,10 @@ struct Walk {
             const double tOut = std::max(t, std::min(tb, t1));
             const double tLow = descending ? tOut : t;
             const bool ahead = tOut > t;
-            const bool above = ahead && double(pyramid.code(level, bi, bj)) < codeZ0 + codeDz * tLow;
+            const bool above = ahead && double(at.code(level, bi, bj)) < codeZ0 + codeDz * tLow;
             // Under the surface, a block of the minimum pyramid (level 2 up) may lie wholly above the ray.
             if (!above && !(ahead && under && level >= 2 &&
-                            double(pyramid.minCode(level, bi, bj)) > codeZ0High + codeDz * (descending ? t : tOut))) {
+                            double(at.minCode(level, bi, bj)) > codeZ0High + codeDz * (descending ? t : tOut))) {
                 // Level 1 has no minimum: a ray under the surface goes straight to the cells.
                 level = under && level == 2 ? 0 : level - 1;
                 return true;
@@ -622,12 +675,17 @@ bool traceSign(const HeightGrid& g, const Heights& at, const Ray& ray, Interval 
 template <class F>
 bool withMethod(const HeightGrid& g, CellMethod method, F&& f) {
     auto storage = [&]<class Real, Shape shape>() {
+        if (g.tiled())
+            return f.template operator()<Real, shape>(
+                TiledHeights{g.tileSource(), g.pyramidView(), g.tileLevels(), g.cellsX(), g.cellsY()});
+        const ResidentGrid resident = residentGrid(g);
         if (const float* h = g.float32Heights())
-            return f.template operator()<Real, shape>(Float32Heights{h, g.width()});
+            return f.template operator()<Real, shape>(Float32Heights{resident, h, g.width()});
         if (g.codeScale() == 1.0)
-            return f.template operator()<Real, shape>(Int16UnitHeights{g.int16Codes(), g.width(), g.codeOffset()});
+            return f.template operator()<Real, shape>(
+                Int16UnitHeights{resident, g.int16Codes(), g.width(), g.codeOffset()});
         return f.template operator()<Real, shape>(
-            Int16Heights{g.int16Codes(), g.width(), g.codeOffset(), g.codeScale()});
+            Int16Heights{resident, g.int16Codes(), g.width(), g.codeOffset(), g.codeScale()});
     };
     switch (method) {
     case CellMethod::Bilinear: return storage.template operator()<float, Shape::Bilinear>();

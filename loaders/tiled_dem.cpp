@@ -52,4 +52,22 @@ std::shared_ptr<const HeightTile> TiledDem::readTile(int64_t key) const {
     }
 }
 
+LoadedDem openTiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options) {
+    auto tiles = std::make_shared<const TiledDem>(path, cacheBytes, options);
+    const DemWindowReader& reader = tiles->reader();
+    LoadedDem dem;
+    dem.path = path;
+    dem.driver = reader.driver();
+    dem.sourceWidth = reader.width();
+    dem.sourceHeight = reader.height();
+    dem.geo = reader.geo();
+    dem.warnings = reader.warnings();
+    try {
+        dem.grid = HeightGrid(tiles->summary(), reader.cellSizeXM(), reader.cellSizeYM(), tiles);
+    } catch (const GridError& e) {
+        throw InputError(path + ": " + e.what());
+    }
+    return dem;
+}
+
 }  // namespace terracast

@@ -15,7 +15,7 @@
 
 namespace terracast {
 
-class TiledDem {
+class TiledDem : public TileSource {
 public:
     // Opens `path` and streams it once; throws InputError as loadDem does (but never for the raster's size).
     TiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options = {});
@@ -25,7 +25,7 @@ public:
     const TileLayout& layout() const { return layout_; }
 
     // Tile (ti, tj), from the cache or read now.
-    std::shared_ptr<const HeightTile> tile(int64_t ti, int64_t tj) const;
+    std::shared_ptr<const HeightTile> tile(int64_t ti, int64_t tj) const override;
 
     // Single values through the cache (each call may read a tile): for checks and slow paths, not for rays.
     float at(int64_t i, int64_t j) const { return vertexTile(i, j)->at(i, j); }
@@ -34,7 +34,8 @@ public:
         return tile(layout_.tileOfCellX(i), layout_.tileOfCellY(j))->cellValid(i, j);
     }
 
-    TileCacheStats cacheStats() const { return cache_->stats(); }
+    TileCacheStats cacheStats() const override { return cache_->stats(); }
+    size_t cacheBudgetBytes() const override { return cache_->budgetBytes(); }
 
 private:
     std::shared_ptr<const HeightTile> vertexTile(int64_t i, int64_t j) const {
@@ -47,5 +48,9 @@ private:
     TileLayout layout_;
     std::unique_ptr<TileCache<HeightTile>> cache_;
 };
+
+// Opens a DEM as a tiled grid (HeightGrid::tiled) over a TiledDem whose cache holds at most `cacheBytes` of
+// tiles: everything loadDem returns, with the heights left in the file. Throws InputError as loadDem does.
+LoadedDem openTiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options = {});
 
 }  // namespace terracast

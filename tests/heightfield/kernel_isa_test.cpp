@@ -141,6 +141,16 @@ TEST_CASE("The AVX2 kernels return the baseline kernels' bits", "[heightfield][i
     fractal.seed = 5;
     grids.push_back(fractalTerrain(fractal));
     REQUIRE(grids.back().storage() == HeightStorage::Int16);
+    {
+        // Heights in tenths of a metre, held as int16 codes of 0.1 m: decoded through a product that must round
+        // to float as HeightGrid::at rounds it.
+        const HeightGrid base = fractalTerrain(fractal);
+        std::vector<float> z = base.copyHeights();
+        for (float& h : z) h = float(std::round((double(h) + 1234.56) * 10.0) * 0.1);
+        grids.emplace_back(base.width(), base.height(), 10.0, 10.0, z, std::vector<uint8_t>{}, StoragePolicy::Auto, 0.1);
+        REQUIRE(grids.back().storage() == HeightStorage::Int16);
+        REQUIRE(grids.back().codeScale() == 0.1);
+    }
     grids.push_back(loadDem(std::string(TERRACAST_SOURCE_DIR) +
                             "/data-samples/usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif")
                         .grid);

@@ -1,11 +1,14 @@
 // A DEM held as tiles read on demand, with a cache a few tiles large: every vertex, nodata flag and cell flag is
 // the whole load's, across tile edges and nodata edges, while the cache stays within its bytes.
+#include "heightfield/traversal.h"
 #include "loaders/tiled_dem.h"
 #include "tracer/core/errors.h"
 
 #include <catch2/catch.hpp>
 
 #include <bit>
+#include <cmath>
+#include <random>
 #include <string>
 
 using namespace terracast;
@@ -59,4 +62,45 @@ TEST_CASE("Tiled DEM: every vertex and cell flag equals the whole load's with a 
 TEST_CASE("Tiled DEM: opening refuses what loading refuses, without reading it whole", "[loaders][tiles]") {
     CHECK_THROWS_AS(TiledDem(sample("no-such.tif"), 1 << 20), InputError);
     CHECK_THROWS_WITH(TiledDem(sample("README.md"), 1 << 20), Catch::Contains("README.md"));
+}
+
+TEST_CASE("Tiled DEM: rays through a grid of tiles read on demand hit as through the whole load",
+          "[loaders][tiles]") {
+    for (const char* name : {"usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif",
+                             "N44W072.srtm3-white-mountains-nh.hgt"}) {
+        INFO(name);
+        const LoadedDem whole = loadDem(sample(name));
+        const size_t tileBytes = TiledDem(sample(name), size_t(1) << 30).tile(0, 0)->bytes();
+        const LoadedDem tiled = openTiledDem(sample(name), 2 * tileBytes);
+        const HeightGrid& a = whole.grid;
+        const HeightGrid& b = tiled.grid;
+        REQUIRE(b.tiled());
+        CHECK(b.width() == a.width());
+        CHECK(b.cellSizeXM() == a.cellSizeXM());
+        CHECK(b.cellSizeYM() == a.cellSizeYM());
+        CHECK(tiled.geo.crsWkt == whole.geo.crsWkt);
+        CHECK(tiled.geo.originX == whole.geo.originX);
+        CHECK(tiled.driver == whole.driver);
+        std::mt19937_64 rng(3);
+        std::uniform_real_distribution<double> u(0.0, 1.0);
+        int64_t hits = 0, differ = 0;
+        for (int k = 0; k < 2000; ++k) {
+            const glm::dvec3 o{u(rng) * a.extentXM(), u(rng) * a.extentYM(),
+                               a.minHeightM() + (a.maxHeightM() - a.minHeightM()) * (0.5 + u(rng))};
+            const double az = 2.0 * M_PI * u(rng), el = -0.4 * u(rng);
+            const Ray ray{o, {std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), std::sin(el)}};
+            const auto ha = intersect(a, ray, {0.0, kInfinity}, CellMethod::Bilinear);
+            const auto hb = intersect(b, ray, {0.0, kInfinity}, CellMethod::Bilinear);
+            hits += ha.has_value();
+            differ += ha.has_value() != hb.has_value() || (ha && std::bit_cast<uint64_t>(ha->t) != std::bit_cast<uint64_t>(hb->t));
+            differ += occluded(a, ray, {0.0, 3000.0}, CellMethod::Triangles) !=
+                      occluded(b, ray, {0.0, 3000.0}, CellMethod::Triangles);
+        }
+        CHECK(hits > 500);
+        CHECK(differ == 0);
+        const TileCacheStats stats = b.tileSource()->cacheStats();
+        INFO(stats.loads << " tile reads");
+        if (TileLayout{a.width(), a.height()}.tileCount() > 2) CHECK(stats.evictions > 0);
+        CHECK(stats.peakBytes <= 2 * tileBytes);
+    }
 }

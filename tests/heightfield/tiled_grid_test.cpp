@@ -1,0 +1,216 @@
+// A grid held as tiles behind a cache a few tiles large traces exactly as the same grid held whole: the same
+// pyramid bounds at every level, and for every ray the same hit bits, the same occlusion verdict and the same
+// walk (cells visited and tested, blocks skipped), across tile edges, nodata holes that straddle them and rays
+// running along the grid lines between tiles.
+#include "heightfield/fractal_terrain.h"
+#include "heightfield/grid_summary.h"
+#include "heightfield/height_tile.h"
+#include "heightfield/tile_cache.h"
+#include "heightfield/traversal.h"
+
+#include <catch2/catch.hpp>
+
+#include <bit>
+#include <cmath>
+#include <memory>
+#include <random>
+
+using namespace terracast;
+
+namespace {
+
+// The tiles of a whole grid, cut on request into a cache of `budget` bytes: a tile source that shares no code
+// with the grid's own pyramid or storage choice (the summary comes from GridSummaryBuilder, the tiles from
+// HeightTile).
+class CutTiles : public TileSource {
+public:
+    CutTiles(const HeightGrid& whole, size_t budget)
+        : heights_(whole.copyHeights()), valid_(size_t(whole.width() * whole.height()), 1),
+          layout_{whole.width(), whole.height()},
+          cache_(budget, [this](int64_t key) { return cut(key); }, [](const HeightTile& t) { return t.bytes(); }) {
+        for (int64_t j = 0; j < whole.height(); ++j)
+            for (int64_t i = 0; i < whole.width(); ++i) valid_[size_t(j * whole.width() + i)] = whole.vertexValid(i, j);
+        // Scale hint 0.1: the whole grids built below with tenths get the same hint.
+        GridSummaryBuilder builder(whole.width(), whole.height(), 0.1);
+        // In bands of 37 rows, which tile edges do not align with.
+        for (int64_t j0 = 0; j0 < whole.height(); j0 += 37) {
+            const int64_t rows = std::min<int64_t>(37, whole.height() - j0);
+            builder.addRows(j0, rows, heights_.data() + j0 * whole.width(), valid_.data() + j0 * whole.width());
+        }
+        summary_ = builder.finish();
+    }
+    std::shared_ptr<const HeightTile> tile(int64_t ti, int64_t tj) const override {
+        return cache_.get(layout_.key(ti, tj));
+    }
+    TileCacheStats cacheStats() const override { return cache_.stats(); }
+    size_t cacheBudgetBytes() const override { return cache_.budgetBytes(); }
+    const GridSummary& summary() const { return summary_; }
+
+private:
+    std::shared_ptr<const HeightTile> cut(int64_t key) const {
+        const int64_t ti = key % layout_.tilesX(), tj = key / layout_.tilesX();
+        const int64_t x0 = layout_.firstVertexX(ti), y0 = layout_.firstVertexY(tj);
+        const int64_t w = layout_.verticesX(ti), h = layout_.verticesY(tj);
+        std::vector<float> z(size_t(w * h));
+        std::vector<uint8_t> ok(z.size());
+        for (int64_t j = 0; j < h; ++j)
+            for (int64_t i = 0; i < w; ++i) {
+                z[size_t(j * w + i)] = heights_[size_t((y0 + j) * layout_.width + x0 + i)];
+                ok[size_t(j * w + i)] = valid_[size_t((y0 + j) * layout_.width + x0 + i)];
+            }
+        return std::make_shared<const HeightTile>(summary_, x0, y0, w, h, z.data(), ok.data());
+    }
+
+    std::vector<float> heights_;
+    std::vector<uint8_t> valid_;
+    TileLayout layout_;
+    GridSummary summary_;
+    mutable TileCache<HeightTile> cache_;
+};
+
+enum class Heights { Float, WholeMetres, Tenths };
+
+// A 700 x 600 vertex fractal grid (3 x 3 tiles, the last ones part-filled) with holes across tile edges: a
+// square straddling the corner of four tiles, a strip along the column x = 256 and a nodata border row.
+HeightGrid testGrid(Heights kind) {
+    FractalTerrainOptions o;
+    o.size = 1025;
+    o.cellSizeM = 10.0;
+    o.seed = 7;
+    const HeightGrid big = fractalTerrain(o);
+    const int64_t w = 700, h = 600;
+    std::vector<float> z(size_t(w * h));
+    std::vector<uint8_t> valid(z.size(), 1);
+    for (int64_t j = 0; j < h; ++j)
+        for (int64_t i = 0; i < w; ++i) {
+            float v = big.at(i, j) + 1234.567f;
+            if (kind == Heights::WholeMetres) v = std::round(v);
+            if (kind == Heights::Tenths) v = float(std::round(double(v) * 10.0) * 0.1);
+            z[size_t(j * w + i)] = v;
+            const bool corner = std::abs(i - 256) < 9 && std::abs(j - 256) < 6;
+            const bool strip = i == 256 && j > 300 && j < 420;
+            const bool border = j == h - 1 && i > 100;
+            if (corner || strip || border) valid[size_t(j * w + i)] = 0;
+        }
+    return HeightGrid(w, h, 10.0, 10.0, z, valid, StoragePolicy::Auto, 0.1);
+}
+
+uint64_t bits(double x) { return std::bit_cast<uint64_t>(x); }
+
+}  // namespace
+
+TEST_CASE("Tiled grid: pyramid bounds at every level equal the whole grid's", "[heightfield][tiles]") {
+    for (Heights kind : {Heights::Float, Heights::WholeMetres, Heights::Tenths}) {
+        const HeightGrid whole = testGrid(kind);
+        auto tiles = std::make_shared<CutTiles>(whole, size_t(1) << 30);
+        const HeightGrid tiled(tiles->summary(), 10.0, 10.0, tiles);
+        INFO("storage " << int(whole.storage()) << " scale " << whole.codeScale());
+        REQUIRE(tiled.tiled());
+        REQUIRE(tiled.storage() == whole.storage());
+        REQUIRE(tiled.pyramidLevels() == whole.pyramidLevels());
+        CHECK(tiled.tileLevels() == kTileLevels);
+        CHECK(tiled.minHeightM() == whole.minHeightM());
+        CHECK(tiled.maxHeightM() == whole.maxHeightM());
+        CHECK(tiled.validCellCount() == whole.validCellCount());
+        int64_t differ = 0, blocks = 0;
+        for (int k = 1; k <= whole.pyramidLevels(); ++k)
+            for (int64_t bj = 0; bj < whole.pyramidBlocksY(k); ++bj)
+                for (int64_t bi = 0; bi < whole.pyramidBlocksX(k); ++bi) {
+                    ++blocks;
+                    differ += bits(tiled.blockMaxM(k, bi, bj)) != bits(whole.blockMaxM(k, bi, bj));
+                    differ += bits(tiled.blockMinM(k, bi, bj)) != bits(whole.blockMinM(k, bi, bj));
+                }
+        CHECK(blocks > 140000);
+        CHECK(differ == 0);
+        // The grid itself holds only the levels above the tiles'.
+        CHECK(tiled.memoryBytes() < 1024);
+    }
+}
+
+TEST_CASE("Tiled grid: rays through a cache of two tiles trace exactly as through the whole grid",
+          "[heightfield][tiles]") {
+    for (Heights kind : {Heights::Float, Heights::WholeMetres, Heights::Tenths}) {
+        const HeightGrid whole = testGrid(kind);
+        // Room for two tiles: every tile change past the second evicts one.
+        const size_t tileBytes = CutTiles(whole, size_t(1) << 30).tile(0, 0)->bytes();
+        auto tiles = std::make_shared<CutTiles>(whole, 2 * tileBytes + tileBytes / 2);
+        const HeightGrid tiled(tiles->summary(), 10.0, 10.0, tiles);
+        std::mt19937_64 rng(11);
+        std::uniform_real_distribution<double> u(0.0, 1.0);
+        const double lo = whole.minHeightM(), hi = whole.maxHeightM();
+        std::vector<Ray> rays;
+        for (int k = 0; k < 1500; ++k) {
+            // From above the terrain inside the footprint, looking down and across.
+            const glm::dvec3 o{u(rng) * 6990.0, u(rng) * 5990.0, lo + (hi - lo) * (0.3 + 1.2 * u(rng))};
+            const double az = 2.0 * M_PI * u(rng), el = -0.5 + 0.6 * u(rng);
+            rays.push_back({o, {std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), std::sin(el)}});
+        }
+        for (int k = 0; k < 300; ++k) {
+            // Cameras outside the footprint, high above it.
+            const glm::dvec3 o{-3000.0 + 13000.0 * u(rng), -4000.0, hi + 2000.0 * u(rng)};
+            const glm::dvec3 target{u(rng) * 6990.0, u(rng) * 5990.0, lo};
+            rays.push_back({o, glm::normalize(target - o)});
+        }
+        for (int k = 0; k < 200; ++k) {
+            // Along the grid lines between tiles and beside the holes: x = 2560 m and y = 2560 m, both ways.
+            const double level = lo + (hi - lo) * u(rng);
+            const double sign = k % 2 == 0 ? 1.0 : -1.0;
+            if (k % 4 < 2) rays.push_back({{2560.0, k % 2 == 0 ? 1.0 : 5989.0, level}, {0.0, sign, -0.01 * u(rng)}});
+            else rays.push_back({{k % 2 == 0 ? 1.0 : 6989.0, 2560.0, level}, {sign, 0.0, -0.01 * u(rng)}});
+        }
+        for (CellMethod method : allCellMethods()) {
+            INFO("storage " << int(whole.storage()) << " scale " << whole.codeScale() << " " << cellMethodName(method));
+            int64_t hits = 0, hitsDiffer = 0, occlusionDiffer = 0, walksDiffer = 0;
+            for (const Ray& ray : rays) {
+                TraceCounters cw, ct;
+                const auto a = intersect(whole, ray, {0.0, kInfinity}, method, &cw);
+                const auto b = intersect(tiled, ray, {0.0, kInfinity}, method, &ct);
+                hits += a.has_value();
+                if (a.has_value() != b.has_value()) ++hitsDiffer;
+                else if (a && (bits(a->t) != bits(b->t) || bits(a->normal.x) != bits(b->normal.x) ||
+                               bits(a->normal.y) != bits(b->normal.y) || a->cellX != b->cellX || a->cellY != b->cellY))
+                    ++hitsDiffer;
+                walksDiffer += cw.cellsVisited != ct.cellsVisited || cw.cellsTested != ct.cellsTested ||
+                               cw.blocksSkipped != ct.blocksSkipped;
+                occlusionDiffer += occluded(whole, ray, {0.0, 5000.0}, method) != occluded(tiled, ray, {0.0, 5000.0}, method);
+            }
+            CHECK(hits > 600);
+            CHECK(hitsDiffer == 0);
+            CHECK(walksDiffer == 0);
+            CHECK(occlusionDiffer == 0);
+        }
+        const TileCacheStats stats = tiles->cacheStats();
+        INFO(stats.loads << " tile loads, " << stats.evictions << " evictions");
+        CHECK(stats.evictions > 100);
+        CHECK(stats.peakBytes <= tiles->cacheBudgetBytes());
+        // Bundles of rays from one point (the renderer's camera path) prove their free stretch on the tiles.
+        std::vector<Ray> bundle;
+        for (int k = 0; k < 64; ++k) bundle.push_back({{-500.0, -700.0, hi + 300.0}, glm::normalize(glm::dvec3{
+                                                           1.0, 0.6 + 0.01 * k, -0.25 + 0.002 * k})});
+        std::vector<std::optional<HeightFieldHit>> ha(bundle.size()), hb(bundle.size());
+        intersectBundle(whole, bundle, {0.0, kInfinity}, CellMethod::Bilinear, ha);
+        intersectBundle(tiled, bundle, {0.0, kInfinity}, CellMethod::Bilinear, hb);
+        int64_t bundleDiffer = 0, bundleHits = 0;
+        for (size_t k = 0; k < bundle.size(); ++k) {
+            bundleHits += ha[k].has_value();
+            bundleDiffer += ha[k].has_value() != hb[k].has_value() || (ha[k] && bits(ha[k]->t) != bits(hb[k]->t));
+        }
+        CHECK(bundleHits > 20);
+        CHECK(bundleDiffer == 0);
+    }
+}
+
+TEST_CASE("Tiled grid: what needs the whole grid is refused", "[heightfield][tiles]") {
+    const HeightGrid whole = testGrid(Heights::WholeMetres);
+    auto tiles = std::make_shared<CutTiles>(whole, size_t(1) << 24);
+    HeightGrid tiled(tiles->summary(), 10.0, 10.0, tiles);
+    CHECK(tiled.int16Codes() == nullptr);
+    CHECK(tiled.float32Heights() == nullptr);
+    CHECK_THROWS_AS(tiled.copyHeights(), GridError);
+    CHECK_THROWS_AS(tiled.scaleHeights(2.0f), GridError);
+    // Single values through the tiles are the whole grid's.
+    CHECK(tiled.at(256, 100) == whole.at(256, 100));
+    CHECK(tiled.vertexValid(256, 256) == whole.vertexValid(256, 256));
+    CHECK(tiled.cellValid(255, 250) == whole.cellValid(255, 250));
+    CHECK(tiled.at(699, 599) == whole.at(699, 599));
+}
