@@ -267,6 +267,16 @@ void addDemOptions(CLI::App& cmd, DemSource& dem) {
                        "Refuse jobs estimated to need more memory than this, e.g. 8G (default: 80% of physical memory)");
     cmd.add_option("DEM", dem.path, "Elevation raster: GeoTIFF, SRTM .hgt, any GDAL raster, or a PNG height map")
         ->required();
+    cmd.add_option_function<std::string>(
+        "--tile-cache",
+        [&dem](const std::string& text) {
+            const auto parsed = parseByteCount(text);
+            if (!parsed || *parsed < 1.0)
+                throw CLI::ValidationError("--tile-cache", "expected a size such as 256M or 2G, found '" + text + "'");
+            dem.tileCacheBytes = *parsed;
+        },
+        "Hold the DEM as tiles read on demand, keeping at most this much of them, e.g. 256M (default: whole in "
+        "memory when it fits in --max-memory, tiles otherwise)");
     cmd.add_option("--cell-size", dem.imageCellSizeM, "PNG height maps: metres between samples (default 1)")
         ->check(positiveNumber());
     cmd.add_option("--height-scale", dem.imageHeightScale,

@@ -63,7 +63,8 @@ double bundleFreeDistanceM(const HeightGrid& g, const glm::dvec3& origin, std::s
         while (k < levels && (((cx1 >> k) - (cx0 >> k)) > 2 || ((cy1 >> k) - (cy0 >> k)) > 2)) ++k;
         for (int64_t bj = cy0 >> k; bj <= (cy1 >> k); ++bj)
             for (int64_t bi = cx0 >> k; bi <= (cx1 >> k); ++bi)
-                if (!((g.tiled() ? g.blockMaxM(k, bi, bj) : pyramid.blockMaxM(k, bi, bj)) < zLimit)) return false;
+                if (!((TERRACAST_TILED_KERNELS ? g.blockMaxM(k, bi, bj) : pyramid.blockMaxM(k, bi, bj)) < zLimit))
+                    return false;
         return true;
     };
 

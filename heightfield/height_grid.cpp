@@ -187,7 +187,9 @@ bool HeightGrid::tryInt16(double s) {
 }
 
 std::vector<float> HeightGrid::copyHeights() const {
-    if (tiles_) throw GridError("this grid is held as tiles and is never copied whole");
+    if (tiles_)
+        throw GridError("this needs the whole DEM in memory, and it is held as tiles (it does not fit in "
+                        "--max-memory, or --tile-cache asked for tiles)");
     if (storage_ == HeightStorage::Float32) return heightsM_;
     std::vector<float> out(codes_.size());
     parallelRanges(int64_t(codes_.size()), 1, [&](int64_t k0, int64_t k1) {
@@ -380,7 +382,9 @@ double HeightGrid::blockMinM(int k, int64_t bi, int64_t bj) const {
 }
 
 void HeightGrid::scaleHeights(float k) {
-    if (tiles_) throw GridError("vertical exaggeration needs the whole grid in memory; this one is held as tiles");
+    if (tiles_)
+        throw GridError("vertical exaggeration needs the whole DEM in memory, and it is held as tiles (it does not "
+                        "fit in --max-memory, or --tile-cache asked for tiles)");
     if (!std::isfinite(k) || k <= 0.0f)
         throw GridError("vertical exaggeration must be positive and finite, got " + std::to_string(k));
     // Scale in float exactly as a Float32 grid would, then let the storage be chosen again; the scaled source
@@ -399,10 +403,11 @@ void HeightGrid::scaleHeights(float k) {
 }
 
 size_t HeightGrid::memoryBytes() const {
+    const size_t tileCache = tiles_ ? tiles_->cacheBudgetBytes() : 0;
     const size_t pyramid = (pyramidCodes_.capacity() + pyramidMinCodes_.capacity()) * sizeof(int16_t) +
                            (levelStart_.capacity() + levelBlocksX_.capacity()) * sizeof(int64_t);
     return heightsM_.capacity() * sizeof(float) + codes_.capacity() * sizeof(int16_t) +
-           (valid_.capacity() + cellValid_.capacity()) * sizeof(uint64_t) + pyramid;
+           (valid_.capacity() + cellValid_.capacity()) * sizeof(uint64_t) + pyramid + tileCache;
 }
 
 PyramidCoding PyramidCoding::forHeights(bool int16Storage, int32_t codeOffset, double codeScale, float minM,

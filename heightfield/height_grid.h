@@ -143,10 +143,10 @@ public:
     bool cellValid(int64_t i, int64_t j) const {
         if (tiles_) [[unlikely]]
             return tiledCellValid(i, j);
-        return cellValid_.empty() || bit(cellValid_, j * cellsX() + i);
+        return wholeCellValid(i, j);
     }
-    // The cell flags, one bit per cell row-major, or null when every cell is valid; whole grids only.
-    const uint64_t* cellValidBits() const { return cellValid_.empty() ? nullptr : cellValid_.data(); }
+    // cellValid of a grid that is not tiled, for hot loops.
+    bool wholeCellValid(int64_t i, int64_t j) const { return cellValid_.empty() || bit(cellValid_, j * cellsX() + i); }
 
     // The storage chosen, and raw access for hot loops (row-major, row j = southmost first); null for a tiled
     // grid.
@@ -176,7 +176,7 @@ public:
     void scaleHeights(float k);
 
     // Bytes held by the grid's own arrays (heights, masks and the pyramids), by capacity; for a tiled grid, its
-    // resident pyramid levels only (the tiles are the source's).
+    // resident pyramid levels and the most its source's tile cache may hold.
     size_t memoryBytes() const;
 
     // The maximum pyramid (Tevs, Ihrke, Seidel 2008, "Maximum mipmaps for fast, accurate, and scalable

@@ -2,10 +2,12 @@
 // grid too large for memory (docs/architecture.md, "Tiled grids"). Tiles are loaded on demand by a callback,
 // outside the cache's lock, and handed out as shared pointers: a tile evicted while a ray still reads it stays
 // alive until that ray lets go, so the bound holds for the cache's own tiles and is exceeded at most by the
-// tiles the threads hold at that moment (one or two each).
+// tiles the threads hold (the four each remembers as its most recent, and the one or two a ray reads).
 #pragma once
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
@@ -48,7 +50,50 @@ public:
 
     // The tile of `key`, loaded when the cache does not hold it. Concurrent requests for a tile being loaded
     // wait for that one load.
-    std::shared_ptr<const Tile> get(Key key) {
+    std::shared_ptr<const Tile> get(Key key) { return getLocked(key); }
+
+    // As get, but each thread first looks among the last few tiles it got from this cache this way, without
+    // the lock: for the hot paths that ask for the same tile again and again. A tile a thread remembers stays
+    // alive after eviction until its slot is reused, and is made recent in the LRU order only on every 256th
+    // request it answers, so the order is that of get only approximately.
+    std::shared_ptr<const Tile> getRecent(Key key) {
+        struct Recent {
+            uint64_t cache = 0;
+            Key key = 0;
+            uint32_t uses = 0;
+            std::shared_ptr<const Tile> tile;
+        };
+        thread_local std::array<Recent, 4> recent;
+        Recent& slot = recent[static_cast<size_t>(key) & 3u];
+        if (slot.cache == id_ && slot.key == key && ++slot.uses % 256 != 0) {
+            fastHits_.fetch_add(1, std::memory_order_relaxed);
+            return slot.tile;
+        }
+        std::shared_ptr<const Tile> tile = getLocked(key);
+        slot.cache = id_;
+        slot.key = key;
+        slot.tile = tile;
+        return tile;
+    }
+
+    // The tile of `key` if the cache holds it, without loading or counting.
+    std::shared_ptr<const Tile> peek(Key key) const {
+        std::lock_guard lock(mutex_);
+        const auto it = entries_.find(key);
+        return it == entries_.end() ? nullptr : it->second.tile;
+    }
+
+    TileCacheStats stats() const {
+        std::lock_guard lock(mutex_);
+        TileCacheStats s = stats_;
+        s.hits += fastHits_.load(std::memory_order_relaxed);
+        return s;
+    }
+
+    size_t budgetBytes() const { return budget_; }
+
+private:
+    std::shared_ptr<const Tile> getLocked(Key key) {
         std::unique_lock lock(mutex_);
         for (;;) {
             if (auto it = entries_.find(key); it != entries_.end()) {
@@ -86,21 +131,6 @@ public:
         return tile;
     }
 
-    // The tile of `key` if the cache holds it, without loading or counting.
-    std::shared_ptr<const Tile> peek(Key key) const {
-        std::lock_guard lock(mutex_);
-        const auto it = entries_.find(key);
-        return it == entries_.end() ? nullptr : it->second.tile;
-    }
-
-    TileCacheStats stats() const {
-        std::lock_guard lock(mutex_);
-        return stats_;
-    }
-
-    size_t budgetBytes() const { return budget_; }
-
-private:
     struct Entry {
         std::shared_ptr<const Tile> tile;
         size_t bytes = 0;
@@ -120,6 +150,14 @@ private:
         }
     }
 
+    // Tells caches apart in the threads' recent tiles (never reused, unlike addresses).
+    static uint64_t nextId() {
+        static std::atomic<uint64_t> counter{0};
+        return ++counter;
+    }
+
+    const uint64_t id_ = nextId();
+    std::atomic<int64_t> fastHits_{0};
     const size_t budget_;
     const Loader load_;
     const Sizer bytesOf_;

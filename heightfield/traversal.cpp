@@ -12,12 +12,7 @@
 #include <span>
 #include <type_traits>
 
-// GCC on x86-64 compiles the kernels a second time for processors with AVX2 and BMI2.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-#define TERRACAST_AVX2_KERNELS 1
-#else
-#define TERRACAST_AVX2_KERNELS 0
-#endif
+#include "heightfield/kernel_isas.h"
 
 namespace terracast {
 
@@ -36,26 +31,6 @@ constexpr std::array<MethodName, 5> kMethodNames{{
 }};
 
 static_assert(std::is_trivially_destructible_v<std::optional<HeightFieldHit>>);
-
-// The kernels, once per instruction set. The second set is compiled with AVX2, BMI and BMI2 enabled for its
-// own functions only (the target pragma leaves the library's and the headers' inline functions as they are, and
-// GCC inlines those into the kernels), so no function another file might share is built for a processor that
-// lacks them. Fused multiply-adds stay off: every operation rounds alike in both sets, which therefore return
-// the same bits (tested), and the faster one is used when the processor has it.
-namespace baseline {
-#include "heightfield/traversal_kernels.h"
-#include "heightfield/bundle_kernels.h"
-}  // namespace baseline
-
-#if TERRACAST_AVX2_KERNELS
-#pragma GCC push_options
-#pragma GCC target("avx2,bmi,bmi2,lzcnt,popcnt,f16c,movbe")
-namespace avx2 {
-#include "heightfield/traversal_kernels.h"
-#include "heightfield/bundle_kernels.h"
-}  // namespace avx2
-#pragma GCC pop_options
-#endif
 
 bool processorHasAvx2() {
 #if TERRACAST_AVX2_KERNELS
@@ -79,6 +54,7 @@ bool useAvx2() { return currentIsa().load(std::memory_order_relaxed) == KernelIs
 
 bool dispatch(const HeightGrid& g, const Ray& ray, Interval interval, CellMethod method, bool anyHit,
               TraceCounters* counters, Traversal tr, HeightFieldHit* out) {
+    if (g.tiled()) return tiled_kernels::trace(g, ray, interval, method, anyHit, counters, tr, out);
 #if TERRACAST_AVX2_KERNELS
     if (useAvx2()) return avx2::dispatch(g, ray, interval, method, anyHit, counters, tr, out);
 #endif
@@ -129,6 +105,7 @@ bool occluded(const HeightGrid& grid, const Ray& ray, Interval interval, CellMet
 
 void intersectBundle(const HeightGrid& grid, std::span<const Ray> rays, Interval interval, CellMethod method,
                      std::span<std::optional<HeightFieldHit>> hits, TraceCounters* counters, Traversal traversal) {
+    if (grid.tiled()) return tiled_kernels::traceBundle(grid, rays, interval, method, hits, counters, traversal);
 #if TERRACAST_AVX2_KERNELS
     if (useAvx2()) return avx2::traceBundle(grid, rays, interval, method, hits, counters, traversal);
 #endif

@@ -9,29 +9,18 @@ enum class Shape { Bilinear, Triangles, Nearest };
 template <class Real>
 using Wide = std::conditional_t<(sizeof(Real) > sizeof(double)), Real, double>;
 
-// What the walk reads besides heights: cell flags and pyramid codes. A whole grid's are in its arrays.
-struct ResidentGrid {
-    const uint64_t* cellBits;  // one bit per cell, row-major; null when every cell is valid
-    int64_t cellsX;
-    HeightGrid::PyramidView pyramid;
-    bool cellValid(int64_t i, int64_t j) const {
-        if (!cellBits) return true;
-        const int64_t k = j * cellsX + i;
-        return (cellBits[k >> 6] >> (k & 63)) & 1u;
-    }
-    int16_t code(int k, int64_t bi, int64_t bj) const { return pyramid.code(k, bi, bj); }
-    int16_t minCode(int k, int64_t bi, int64_t bj) const { return pyramid.minCode(k, bi, bj); }
-};
-ResidentGrid residentGrid(const HeightGrid& g) { return {g.cellValidBits(), g.cellsX(), g.pyramidView()}; }
-
-// Height access in the hot loop, one kind per storage, each returning exactly HeightGrid::at's value.
-struct Float32Heights : ResidentGrid {
+// Height access in the hot loop, one kind per storage, each returning exactly HeightGrid::at's value. The
+// walk reads a whole grid's cell flags and pyramid from the grid; a tiled grid's accessor (TiledHeights) brings
+// its own.
+struct Float32Heights {
+    static constexpr bool kTiled = false;
     const float* h;
     int64_t width;
     float operator()(int64_t i, int64_t j) const { return h[j * width + i]; }
     void prefetch(int64_t i, int64_t j) const { __builtin_prefetch(h + (j * width + i)); }
 };
-struct Int16Heights : ResidentGrid {
+struct Int16Heights {
+    static constexpr bool kTiled = false;
     const int16_t* q;
     int64_t width;
     int32_t offset;
@@ -40,7 +29,8 @@ struct Int16Heights : ResidentGrid {
     void prefetch(int64_t i, int64_t j) const { __builtin_prefetch(q + (j * width + i)); }
 };
 // One metre per code: the decoded height is the integer itself (exact in float below 2^24 m).
-struct Int16UnitHeights : ResidentGrid {
+struct Int16UnitHeights {
+    static constexpr bool kTiled = false;
     const int16_t* q;
     int64_t width;
     int32_t offset;
@@ -52,6 +42,7 @@ struct Int16UnitHeights : ResidentGrid {
 // keeps the last tile it used, so a walk asks the source only when it moves to another tile. Values are the
 // tile's, which holds them as the whole grid would: the walk takes the same steps and finds the same hits.
 struct TiledHeights {
+    static constexpr bool kTiled = true;
     const TileSource* source;
     HeightGrid::PyramidView resident;  // levels above tileLevels
     int tileLevels;
@@ -431,6 +422,20 @@ struct Walk {
         return true;
     }
 
+    // Cell flags and pyramid codes: a whole grid's arrays, or the tiles of a tiled grid's accessor.
+    bool cellValid(int64_t ci, int64_t cj) const {
+        if constexpr (Heights::kTiled) return at.cellValid(ci, cj);
+        else return g.wholeCellValid(ci, cj);
+    }
+    int16_t maxCode(int k, int64_t bi, int64_t bj) const {
+        if constexpr (Heights::kTiled) return at.code(k, bi, bj);
+        else return pyramid.code(k, bi, bj);
+    }
+    int16_t minCode(int k, int64_t bi, int64_t bj) const {
+        if constexpr (Heights::kTiled) return at.minCode(k, bi, bj);
+        else return pyramid.minCode(k, bi, bj);
+    }
+
     // Visits cell (ci, cj), which the ray crosses from tEnter (through `entry`) to tExit (through exitSide()).
     template <class ExitSide>
     __attribute__((always_inline)) Visit visitCell(int64_t ci, int64_t cj, double tEnter, double tExit, CellSide entry,
@@ -438,11 +443,11 @@ struct Walk {
         if (counting && counters) ++counters->cellsVisited;
         // Along a grid line, the edge the ray runs on belongs to the valid cell beside a hole too (for the surfaces
         // through the vertices; nearest's flat squares have no shared edge).
-        if (shape != Shape::Nearest && !at.cellValid(ci, cj)) {
-            if (altI >= 0 && at.cellValid(altI, cj)) ci = altI;
-            else if (altJ >= 0 && at.cellValid(ci, altJ)) cj = altJ;
+        if (shape != Shape::Nearest && !cellValid(ci, cj)) {
+            if (altI >= 0 && cellValid(altI, cj)) ci = altI;
+            else if (altJ >= 0 && cellValid(ci, altJ)) cj = altJ;
         }
-        if (!at.cellValid(ci, cj)) {
+        if (!cellValid(ci, cj)) {
             hasCarriedG = false;
             // A corner pass: the segment clips the hole cell by less than 1e-7 of a cell (rounding of t).
             if ((tExit - tEnter) * (std::abs(dg.x) + std::abs(dg.y)) > 1e-7) cornerG.reset();
@@ -568,10 +573,10 @@ struct Walk {
             const double tOut = std::max(t, std::min(tb, t1));
             const double tLow = descending ? tOut : t;
             const bool ahead = tOut > t;
-            const bool above = ahead && double(at.code(level, bi, bj)) < codeZ0 + codeDz * tLow;
+            const bool above = ahead && double(maxCode(level, bi, bj)) < codeZ0 + codeDz * tLow;
             // Under the surface, a block of the minimum pyramid (level 2 up) may lie wholly above the ray.
             if (!above && !(ahead && under && level >= 2 &&
-                            double(at.minCode(level, bi, bj)) > codeZ0High + codeDz * (descending ? t : tOut))) {
+                            double(minCode(level, bi, bj)) > codeZ0High + codeDz * (descending ? t : tOut))) {
                 // Level 1 has no minimum: a ray under the surface goes straight to the cells.
                 level = under && level == 2 ? 0 : level - 1;
                 return true;
@@ -671,21 +676,22 @@ bool traceSign(const HeightGrid& g, const Heights& at, const Ray& ray, Interval 
 }
 
 // Calls f.template operator()<Real, shape>(heights) with the arithmetic and cell shape of `method` and the height
-// access of the grid's storage, so that callers tracing many rays choose them once.
+// access of the grid's storage (its tiles, in the tiled kernels), so that callers tracing many rays choose them
+// once.
 template <class F>
 bool withMethod(const HeightGrid& g, CellMethod method, F&& f) {
     auto storage = [&]<class Real, Shape shape>() {
-        if (g.tiled())
-            return f.template operator()<Real, shape>(
-                TiledHeights{g.tileSource(), g.pyramidView(), g.tileLevels(), g.cellsX(), g.cellsY()});
-        const ResidentGrid resident = residentGrid(g);
-        if (const float* h = g.float32Heights())
-            return f.template operator()<Real, shape>(Float32Heights{resident, h, g.width()});
-        if (g.codeScale() == 1.0)
-            return f.template operator()<Real, shape>(
-                Int16UnitHeights{resident, g.int16Codes(), g.width(), g.codeOffset()});
+#if TERRACAST_TILED_KERNELS
         return f.template operator()<Real, shape>(
-            Int16Heights{resident, g.int16Codes(), g.width(), g.codeOffset(), g.codeScale()});
+            TiledHeights{g.tileSource(), g.pyramidView(), g.tileLevels(), g.cellsX(), g.cellsY()});
+#else
+        if (const float* h = g.float32Heights())
+            return f.template operator()<Real, shape>(Float32Heights{h, g.width()});
+        if (g.codeScale() == 1.0)
+            return f.template operator()<Real, shape>(Int16UnitHeights{g.int16Codes(), g.width(), g.codeOffset()});
+        return f.template operator()<Real, shape>(
+            Int16Heights{g.int16Codes(), g.width(), g.codeOffset(), g.codeScale()});
+#endif
     };
     switch (method) {
     case CellMethod::Bilinear: return storage.template operator()<float, Shape::Bilinear>();

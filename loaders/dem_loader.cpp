@@ -11,6 +11,7 @@
 #include "tracer/core/resources.h"
 #include "tracer/core/text.h"
 #include "loaders/dem_loader.h"
+#include "loaders/tiled_dem.h"
 #include "loaders/input_files.h"
 #include "loaders/image_codec.h"
 
@@ -55,6 +56,13 @@ constexpr double kLargeExtentDeg = 5.0;                              // wider ge
 constexpr double kFootM = 0.3048;                                    // international foot
 constexpr double kUsSurveyFootM = 1200.0 / 3937.0;                   // US survey foot
 
+// The smallest tile cache a tiled grid is opened with when it is chosen for its size: 64 tiles of 257 x 257
+// int16 vertices with their pyramids, enough for the rays of a few threads crossing tile corners.
+constexpr double kMinTileCacheBytes = 16.0 * 1024 * 1024;
+// The largest raster held even as tiles: ten times the largest national LiDAR DEMs. Opening one streams every
+// sample once, which takes hours beyond this.
+constexpr double kMaxRasterSamples = 0x1p39;
+
 std::string toLower(std::string s) {
     std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return s;
@@ -68,6 +76,10 @@ void checkRasterSize(const std::string& path, int64_t width, int64_t height, dou
     if (width < 2 || height < 2)
         throw InputError(fmt::format("{}: {} x {} raster has no cell to trace (need at least 2 x 2)", path, width,
                                      height));
+    if (double(width) * double(height) > kMaxRasterSamples)
+        throw InputError(fmt::format("{}: {} x {} raster holds {:.3g} samples, more than the {:.3g} (2^39) terracast "
+                                     "traces, even as tiles",
+                                     path, width, height, double(width) * double(height), kMaxRasterSamples));
     if (maxBytes < 0.0) return;  // a window reader, which never holds the raster
     // What the process holds already (libraries, the image codec when it reads a PNG) counts against the limit.
     const double held = currentResidentBytes();
@@ -567,8 +579,33 @@ LoadedDem loadDem(const std::string& path, const DemLoadOptions& options) {
     checkInputFile(path, "a DEM");
     const ExitOnCancel interruptible;  // GDAL may block (a network path); nothing is written yet
     // The one place where a format is chosen: PNG height maps through OpenImageIO, everything else through GDAL.
-    if (lowerExtension(path) == ".png") return loadWithImageInput(path, options);
-    return loadWithGdal(path, options);
+    if (lowerExtension(path) == ".png") {
+        if (options.tileCacheBytes > 0.0)
+            throw InputError(path + ": PNG height maps are read whole, not as tiles (convert it to a tiled GeoTIFF "
+                                    "to hold it as tiles: gdal_translate -co TILED=YES)");
+        return loadWithImageInput(path, options);
+    }
+    if (options.tileCacheBytes > 0.0) return openTiledDem(path, size_t(options.tileCacheBytes), options);
+    // A raster too large to hold whole is held as tiles, with a quarter of the memory left for their cache.
+    double wholeBytes = 0.0;
+    int64_t width = 0, height = 0;
+    {
+        const DemWindowReader probe(path, options);
+        width = probe.width();
+        height = probe.height();
+        wholeBytes = double(width) * double(height) * kBytesPerVertex;
+    }
+    const double held = currentResidentBytes();
+    const double limit = memoryLimitBytes(options.maxBytes);
+    if (held + wholeBytes <= limit) return loadWithGdal(path, options);
+    const double cacheBytes = (limit - held) / 4.0;
+    if (cacheBytes < kMinTileCacheBytes)
+        throw InputError(fmt::format("{}: {} x {} raster needs about {} to load and trace ({} held already), "
+                                     "more than the {} limit (--max-memory), which leaves {} for a cache of its "
+                                     "tiles, less than the {} they need",
+                                     path, width, height, humanBytes(wholeBytes), humanBytes(held), humanBytes(limit),
+                                     humanBytes(std::max(0.0, cacheBytes)), humanBytes(kMinTileCacheBytes)));
+    return openTiledDem(path, size_t(cacheBytes), options);
 }
 
 LoadedDem loadDemFromBytes(std::string_view bytes, const std::string& name, const DemLoadOptions& options) {

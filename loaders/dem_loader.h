@@ -29,7 +29,11 @@ struct GeoReference {
 struct DemLoadOptions {
     double imageCellSizeM = 1.0;    // height maps without georeference: metres between samples
     double imageHeightScale = 1.0;  // height maps: metres per stored unit (8-bit 0..255, 16-bit 0..65535)
-    double maxBytes = 0.0;          // refuse rasters needing more memory than this; 0 = 80% of physical memory
+    double maxBytes = 0.0;          // the memory a job may use; 0 = 80% of physical memory
+    // How the grid is held (docs/architecture.md, "Tiled grids"). 0: whole, when it fits in maxBytes with what
+    // the process holds already, and otherwise as tiles read on demand with a cache of a quarter of the memory
+    // left; above 0: as tiles, with a cache of this many bytes. PNG height maps are always held whole.
+    double tileCacheBytes = 0.0;
 };
 
 // A loaded DEM: plain data, no GDAL or OpenImageIO types.
@@ -43,8 +47,9 @@ struct LoadedDem {
     std::vector<std::string> warnings;  // assumptions made while loading, one line each
 };
 
-// Loads a DEM. Throws InputError (one line naming the file and the problem) when the file is missing,
-// not a raster, empty, holds non-finite heights, or has no valid cell.
+// Loads a DEM, whole or as a tiled grid (see DemLoadOptions::tileCacheBytes). Throws InputError (one line
+// naming the file and the problem) when the file is missing, not a raster, empty, holds non-finite heights, or
+// has no valid cell.
 LoadedDem loadDem(const std::string& path, const DemLoadOptions& options = {});
 
 // Loads a DEM held in memory (a whole file's bytes) through GDAL, as if read from a file called `name`, which

@@ -36,7 +36,9 @@ TiledDem::TiledDem(const std::string& path, size_t cacheBytes, const DemLoadOpti
         cacheBytes, [this](int64_t key) { return readTile(key); }, [](const HeightTile& t) { return t.bytes(); });
 }
 
-std::shared_ptr<const HeightTile> TiledDem::tile(int64_t ti, int64_t tj) const { return cache_->get(layout_.key(ti, tj)); }
+std::shared_ptr<const HeightTile> TiledDem::tile(int64_t ti, int64_t tj) const {
+    return cache_->getRecent(layout_.key(ti, tj));
+}
 
 std::shared_ptr<const HeightTile> TiledDem::readTile(int64_t key) const {
     const int64_t ti = key % layout_.tilesX(), tj = key / layout_.tilesX();

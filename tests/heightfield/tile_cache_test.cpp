@@ -151,3 +151,23 @@ TEST_CASE("Tile cache: threads asking for the same tiles share one load each and
     CHECK(s.bytes <= 6 * kTileBytes);
     CHECK(s.hits > s.loads);
 }
+
+TEST_CASE("Tile cache: a thread's recent tiles answer again without the lock, and other threads load their own",
+          "[heightfield][tiles]") {
+    Counting counting;
+    TileCache<FakeTile> cache(1 * kTileBytes, [&](int64_t k) { return counting(k); }, tileBytes);
+    const FakeTile* first = cache.getRecent(0).get();
+    cache.get(1);  // evicts 0 from the cache
+    CHECK(cache.peek(0) == nullptr);
+    // This thread still remembers 0: the same tile, no load, counted as a hit.
+    for (int n = 0; n < 100; ++n) CHECK(cache.getRecent(0).get() == first);
+    CHECK(counting.loads == 2);
+    CHECK(cache.stats().hits == 100);
+    // Another thread remembers nothing yet: it goes to the cache, which loads 0 again.
+    std::thread([&] { CHECK(cache.getRecent(0)->key == 0); }).join();
+    CHECK(counting.loads == 3);
+    // Every 256th request a thread could answer itself goes to the cache too, which holds 0 now: no load.
+    for (int n = 0; n < 300; ++n) cache.getRecent(0);
+    CHECK(cache.peek(0) != nullptr);
+    CHECK(counting.loads == 3);
+}

@@ -469,17 +469,25 @@ TEST_CASE("Unreadable inputs throw one-line InputErrors naming the file", "[load
     SECTION("raster too large to hold") {
         // A VRT declares any size without storing pixels.
         path = dir.file("huge.vrt");
-        writeBytes(path, "<VRTDataset rasterXSize=\"200000\" rasterYSize=\"200000\">\n"
+        writeBytes(path, "<VRTDataset rasterXSize=\"800000\" rasterYSize=\"800000\">\n"
                          "  <VRTRasterBand dataType=\"Float32\" band=\"1\"/>\n"
                          "</VRTDataset>\n");
-        // 200000^2 vertices need hundreds of GiB: refused against the default limit (80% of physical memory),
-        // from the header alone.
-        CHECK_THAT(loadError(path), Catch::Contains("needs about 422.2 GiB") && Catch::Contains("GiB limit (--max-memory)"));
-        // A small DEM under an explicit limit below its need is refused too, naming the limit.
+        // 6.4e11 vertices: more than even tiles hold, refused from the header alone.
+        CHECK_THAT(loadError(path), Catch::Contains("800000 x 800000 raster holds 6.4e+11 samples") &&
+                                        Catch::Contains("even as tiles"));
+        // A small DEM under an explicit limit below its need, which leaves too little for a tile cache, is
+        // refused too, naming the limit and both needs.
         DemLoadOptions tight;
         tight.maxBytes = 1024.0 * 1024.0;
         const std::string small = std::string(TERRACAST_SOURCE_DIR) + "/data-samples/usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif";
-        CHECK_THROWS_WITH(loadDem(small, tight), Catch::Contains("more than the 1.0 MiB limit (--max-memory)"));
+        CHECK_THROWS_WITH(loadDem(small, tight), Catch::Contains("327 x 468 raster needs about 1.7 MiB") &&
+                                                     Catch::Contains("more than the 1.0 MiB limit (--max-memory)") &&
+                                                     Catch::Contains("less than the 16.0 MiB they need"));
+        // Asked for tiles, it is held as tiles, whatever its size and the limit.
+        tight.maxBytes = currentResidentBytes() + 1.0 * 1024 * 1024 * 1024;
+        DemLoadOptions tiles = tight;
+        tiles.tileCacheBytes = 1 << 20;
+        CHECK(loadDem(small, tiles).grid.tiled());
         // The limit counts what the process holds already (this test runner's own memory) plus the grid.
         tight.maxBytes = currentResidentBytes() + 64.0 * 1024.0 * 1024.0;
         CHECK_NOTHROW(loadDem(small, tight));

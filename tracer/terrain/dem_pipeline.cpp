@@ -1,5 +1,7 @@
 #include "tracer/terrain/dem_pipeline.h"
 
+#include "heightfield/height_tile.h"
+
 #include "loaders/image_io.h"
 #include "loaders/output_paths.h"
 #include "loaders/raster_writer.h"
@@ -24,6 +26,7 @@ LoadedDem loadDemSource(const DemSource& source, const RunListener& listener) {
     lo.maxBytes = source.maxMemoryBytes;
     lo.imageCellSizeM = source.imageCellSizeM;
     lo.imageHeightScale = source.imageHeightScale;
+    lo.tileCacheBytes = source.tileCacheBytes;
     LoadedDem dem = loadDem(source.path, lo);
     for (const auto& w : dem.warnings) listener.warn(w);
     return dem;
@@ -53,6 +56,16 @@ std::string demInfoReport(const DemSource& source, const RunListener& listener) 
     out += fmt::format("nodata:      {:.2f}% of vertices ({} of {}), {} valid cells\n",
                        100.0 * double(g.nodataVertexCount()) / total, g.nodataVertexCount(), int64_t(total),
                        g.validCellCount());
+    if (g.tiled()) {
+        const TileLayout layout{g.width(), g.height()};
+        out += fmt::format("held:        as {} x {} tiles of {} x {} cells read on demand, a cache of {} ({} "
+                           "pyramid levels resident)\n",
+                           layout.tilesX(), layout.tilesY(), kTileCells, kTileCells,
+                           humanBytes(double(g.tileSource()->cacheBudgetBytes())),
+                           g.pyramidLevels() - g.tileLevels());
+    } else {
+        out += "held:        whole, in memory\n";
+    }
     out += fmt::format("memory:      {} for the grid; about {} to render at 1280x720\n",
                        humanBytes(double(g.memoryBytes())),
                        humanBytes(double(g.memoryBytes()) + 1280.0 * 720.0 * kFilmBytesPerPixel));

@@ -23,6 +23,7 @@ struct DemSource {
     double imageCellSizeM = 1.0;    // PNG height maps: metres between samples
     double imageHeightScale = 1.0;  // PNG height maps: metres per stored unit
     double maxMemoryBytes = 0.0;    // refuse jobs estimated to need more; 0 = 80% of physical memory
+    double tileCacheBytes = 0.0;    // > 0: hold the DEM as tiles with a cache this large (DemLoadOptions)
 };
 
 // Loads the DEM, passing its warnings (assumed units, large geographic extents) to the listener.
