@@ -68,6 +68,14 @@ std::string toLower(std::string s) {
     return s;
 }
 
+// A raster too large to hold whole, with what the process held and the limit (loadDem holds it as tiles).
+struct RasterTooLarge : InputError {
+    RasterTooLarge(const std::string& message, double held, double limit)
+        : InputError(message), heldBytes(held), limitBytes(limit) {}
+    double heldBytes;
+    double limitBytes;
+};
+
 // Rejects rasters without a cell, and rasters too large to hold, before anything is allocated (the second
 // check only for a `maxBytes` of 0, the default limit, or more).
 void checkRasterSize(const std::string& path, int64_t width, int64_t height, double maxBytes) {
@@ -86,9 +94,10 @@ void checkRasterSize(const std::string& path, int64_t width, int64_t height, dou
     const double bytes = static_cast<double>(width) * static_cast<double>(height) * kBytesPerVertex;
     const double limit = memoryLimitBytes(maxBytes);
     if (held + bytes > limit)
-        throw InputError(fmt::format("{}: {} x {} raster needs about {} to load and trace ({} held already), "
-                                     "more than the {} limit (--max-memory)",
-                                     path, width, height, humanBytes(bytes), humanBytes(held), humanBytes(limit)));
+        throw RasterTooLarge(fmt::format("{}: {} x {} raster needs about {} to load and trace ({} held already), "
+                                         "more than the {} limit (--max-memory)",
+                                         path, width, height, humanBytes(bytes), humanBytes(held), humanBytes(limit)),
+                             held, limit);
 }
 
 // Builds the grid, naming the file in any GridError, and refuses grids without a cell to trace.
@@ -587,25 +596,16 @@ LoadedDem loadDem(const std::string& path, const DemLoadOptions& options) {
     }
     if (options.tileCacheBytes > 0.0) return openTiledDem(path, size_t(options.tileCacheBytes), options);
     // A raster too large to hold whole is held as tiles, with a quarter of the memory left for their cache.
-    double wholeBytes = 0.0;
-    int64_t width = 0, height = 0;
-    {
-        const DemWindowReader probe(path, options);
-        width = probe.width();
-        height = probe.height();
-        wholeBytes = double(width) * double(height) * kBytesPerVertex;
+    try {
+        return loadWithGdal(path, options);
+    } catch (const RasterTooLarge& e) {
+        const double cacheBytes = (e.limitBytes - e.heldBytes) / 4.0;
+        if (cacheBytes < kMinTileCacheBytes)
+            throw InputError(fmt::format("{}; held as tiles, it would get a cache of {}, less than the {} it needs",
+                                         e.what(), humanBytes(std::max(0.0, cacheBytes)),
+                                         humanBytes(kMinTileCacheBytes)));
+        return openTiledDem(path, size_t(cacheBytes), options);
     }
-    const double held = currentResidentBytes();
-    const double limit = memoryLimitBytes(options.maxBytes);
-    if (held + wholeBytes <= limit) return loadWithGdal(path, options);
-    const double cacheBytes = (limit - held) / 4.0;
-    if (cacheBytes < kMinTileCacheBytes)
-        throw InputError(fmt::format("{}: {} x {} raster needs about {} to load and trace ({} held already), "
-                                     "more than the {} limit (--max-memory), which leaves {} for a cache of its "
-                                     "tiles, less than the {} they need",
-                                     path, width, height, humanBytes(wholeBytes), humanBytes(held), humanBytes(limit),
-                                     humanBytes(std::max(0.0, cacheBytes)), humanBytes(kMinTileCacheBytes)));
-    return openTiledDem(path, size_t(cacheBytes), options);
 }
 
 LoadedDem loadDemFromBytes(std::string_view bytes, const std::string& name, const DemLoadOptions& options) {

@@ -7,6 +7,7 @@
 #include "heightfield/height_tile.h"
 #include "heightfield/tile_cache.h"
 #include "heightfield/traversal.h"
+#include "support/sanitizers.h"
 
 #include <catch2/catch.hpp>
 
@@ -16,6 +17,7 @@
 #include <random>
 
 using namespace terracast;
+using terracast::testing::kSweepDivisor;
 
 namespace {
 
@@ -139,19 +141,19 @@ TEST_CASE("Tiled grid: rays through a cache of two tiles trace exactly as throug
         std::uniform_real_distribution<double> u(0.0, 1.0);
         const double lo = whole.minHeightM(), hi = whole.maxHeightM();
         std::vector<Ray> rays;
-        for (int k = 0; k < 1500; ++k) {
+        for (int k = 0; k < 700 / kSweepDivisor; ++k) {
             // From above the terrain inside the footprint, looking down and across.
             const glm::dvec3 o{u(rng) * 6990.0, u(rng) * 5990.0, lo + (hi - lo) * (0.3 + 1.2 * u(rng))};
             const double az = 2.0 * M_PI * u(rng), el = -0.5 + 0.6 * u(rng);
             rays.push_back({o, {std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), std::sin(el)}});
         }
-        for (int k = 0; k < 300; ++k) {
+        for (int k = 0; k < 150 / kSweepDivisor; ++k) {
             // Cameras outside the footprint, high above it.
             const glm::dvec3 o{-3000.0 + 13000.0 * u(rng), -4000.0, hi + 2000.0 * u(rng)};
             const glm::dvec3 target{u(rng) * 6990.0, u(rng) * 5990.0, lo};
             rays.push_back({o, glm::normalize(target - o)});
         }
-        for (int k = 0; k < 200; ++k) {
+        for (int k = 0; k < 100 / kSweepDivisor; ++k) {
             // Along the grid lines between tiles and beside the holes: x = 2560 m and y = 2560 m, both ways.
             const double level = lo + (hi - lo) * u(rng);
             const double sign = k % 2 == 0 ? 1.0 : -1.0;
@@ -174,14 +176,14 @@ TEST_CASE("Tiled grid: rays through a cache of two tiles trace exactly as throug
                                cw.blocksSkipped != ct.blocksSkipped;
                 occlusionDiffer += occluded(whole, ray, {0.0, 5000.0}, method) != occluded(tiled, ray, {0.0, 5000.0}, method);
             }
-            CHECK(hits > 600);
+            CHECK(hits > 300 / kSweepDivisor);
             CHECK(hitsDiffer == 0);
             CHECK(walksDiffer == 0);
             CHECK(occlusionDiffer == 0);
         }
         const TileCacheStats stats = tiles->cacheStats();
         INFO(stats.loads << " tile loads, " << stats.evictions << " evictions");
-        CHECK(stats.evictions > 100);
+        CHECK(stats.evictions > 50 / kSweepDivisor);
         CHECK(stats.peakBytes <= tiles->cacheBudgetBytes());
         // Bundles of rays from one point (the renderer's camera path) prove their free stretch on the tiles.
         std::vector<Ray> bundle;

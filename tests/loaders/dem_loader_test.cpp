@@ -482,7 +482,7 @@ TEST_CASE("Unreadable inputs throw one-line InputErrors naming the file", "[load
         const std::string small = std::string(TERRACAST_SOURCE_DIR) + "/data-samples/usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif";
         CHECK_THROWS_WITH(loadDem(small, tight), Catch::Contains("327 x 468 raster needs about 1.7 MiB") &&
                                                      Catch::Contains("more than the 1.0 MiB limit (--max-memory)") &&
-                                                     Catch::Contains("less than the 16.0 MiB they need"));
+                                                     Catch::Contains("less than the 16.0 MiB it needs"));
         // Asked for tiles, it is held as tiles, whatever its size and the limit.
         tight.maxBytes = currentResidentBytes() + 1.0 * 1024 * 1024 * 1024;
         DemLoadOptions tiles = tight;
