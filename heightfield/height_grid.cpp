@@ -42,10 +42,8 @@ constexpr int32_t kHighestCode = std::numeric_limits<int16_t>::max();
 
 }  // namespace
 
-HeightGrid::HeightGrid(int64_t width, int64_t height, double cellSizeXM, double cellSizeYM,
-                       std::vector<float> heightsM, std::vector<uint8_t> valid, StoragePolicy policy, double scaleHint)
-    : width_(width), height_(height), cellSizeXM_(cellSizeXM), cellSizeYM_(cellSizeYM), policy_(policy),
-      scaleHint_(scaleHint), heightsM_(std::move(heightsM)) {
+// Checks the vertex counts and cell sizes, and derives the reciprocals rays use.
+void HeightGrid::setLattice() {
     if (width_ < 2 || height_ < 2)
         throw GridError("a height grid needs at least 2 x 2 vertices (one cell), got " + std::to_string(width_) +
                         " x " + std::to_string(height_));
@@ -54,6 +52,13 @@ HeightGrid::HeightGrid(int64_t width, int64_t height, double cellSizeXM, double 
                         std::to_string(cellSizeYM_) + " m");
     cellsPerMetreX_ = 1.0 / cellSizeXM_;
     cellsPerMetreY_ = 1.0 / cellSizeYM_;
+}
+
+HeightGrid::HeightGrid(int64_t width, int64_t height, double cellSizeXM, double cellSizeYM,
+                       std::vector<float> heightsM, std::vector<uint8_t> valid, StoragePolicy policy, double scaleHint)
+    : width_(width), height_(height), cellSizeXM_(cellSizeXM), cellSizeYM_(cellSizeYM), policy_(policy),
+      scaleHint_(scaleHint), heightsM_(std::move(heightsM)) {
+    setLattice();
     const auto n = static_cast<size_t>(width_) * static_cast<size_t>(height_);
     if (heightsM_.size() != n)
         throw GridError("expected " + std::to_string(n) + " heights, got " + std::to_string(heightsM_.size()));
@@ -318,15 +323,8 @@ HeightGrid::HeightGrid(const GridSummary& summary, double cellSizeXM, double cel
       storage_(summary.storage), codeOffset_(summary.codeOffset), codeScale_(summary.codeScale),
       nodataVertices_(summary.nodataVertices), validCells_(summary.validCells), minHeightM_(summary.minHeightM),
       maxHeightM_(summary.maxHeightM), tiles_(std::move(tiles)) {
-    if (width_ < 2 || height_ < 2)
-        throw GridError("a height grid needs at least 2 x 2 vertices (one cell), got " + std::to_string(width_) +
-                        " x " + std::to_string(height_));
-    if (!(cellSizeXM_ > 0.0) || !(cellSizeYM_ > 0.0) || !std::isfinite(cellSizeXM_) || !std::isfinite(cellSizeYM_))
-        throw GridError("cell sizes must be positive and finite, got " + std::to_string(cellSizeXM_) + " x " +
-                        std::to_string(cellSizeYM_) + " m");
+    setLattice();
     if (!tiles_) throw GridError("a tiled grid needs a tile source");
-    cellsPerMetreX_ = 1.0 / cellSizeXM_;
-    cellsPerMetreY_ = 1.0 / cellSizeYM_;
     pyramidOffset_ = summary.pyramid.offset;
     pyramidScale_ = summary.pyramid.scale;
     pyramidCodesPerMetre_ = summary.pyramid.codesPerMetre;
@@ -353,14 +351,14 @@ HeightGrid::HeightGrid(const GridSummary& summary, double cellSizeXM, double cel
     if (pyramidLevels() != levels) throw GridError("a tiled grid's pyramid has the wrong number of levels");
 }
 
-float HeightGrid::tiledAt(int64_t i, int64_t j) const {
-    return tiles_->tile(std::min(i, cellsX() - 1) / kTileCells, std::min(j, cellsY() - 1) / kTileCells)->at(i, j);
+// A tile holding vertex (i, j): the one of the cell it is the lower corner of, or of the last cell.
+std::shared_ptr<const HeightTile> HeightGrid::vertexTile(int64_t i, int64_t j) const {
+    return tiles_->tile(std::min(i, cellsX() - 1) / kTileCells, std::min(j, cellsY() - 1) / kTileCells);
 }
 
-bool HeightGrid::tiledVertexValid(int64_t i, int64_t j) const {
-    return tiles_->tile(std::min(i, cellsX() - 1) / kTileCells, std::min(j, cellsY() - 1) / kTileCells)
-        ->vertexValid(i, j);
-}
+float HeightGrid::tiledAt(int64_t i, int64_t j) const { return vertexTile(i, j)->at(i, j); }
+
+bool HeightGrid::tiledVertexValid(int64_t i, int64_t j) const { return vertexTile(i, j)->vertexValid(i, j); }
 
 bool HeightGrid::tiledCellValid(int64_t i, int64_t j) const {
     return tiles_->tile(i / kTileCells, j / kTileCells)->cellValid(i, j);

@@ -226,6 +226,8 @@ private:
         return (bits[static_cast<size_t>(k) >> 6] >> (k & 63)) & 1u;
     }
     float decode(int16_t q) const { return decodeHeightCode(q, codeOffset_, codeScale_); }
+    void setLattice();
+    std::shared_ptr<const HeightTile> vertexTile(int64_t i, int64_t j) const;
     float tiledAt(int64_t i, int64_t j) const;
     bool tiledVertexValid(int64_t i, int64_t j) const;
     bool tiledCellValid(int64_t i, int64_t j) const;

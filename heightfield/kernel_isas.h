@@ -32,6 +32,7 @@ namespace {
 // lacks them. Fused multiply-adds stay off: every operation rounds alike in both sets, which therefore return
 // the same bits (tested), and the faster one is used when the processor has it.
 namespace baseline {
+#include "heightfield/height_accessors.h"
 #include "heightfield/traversal_kernels.h"
 #include "heightfield/bundle_kernels.h"
 }  // namespace baseline
@@ -40,6 +41,7 @@ namespace baseline {
 #pragma GCC push_options
 #pragma GCC target("avx2,bmi,bmi2,lzcnt,popcnt,f16c,movbe")
 namespace avx2 {
+#include "heightfield/height_accessors.h"
 #include "heightfield/traversal_kernels.h"
 #include "heightfield/bundle_kernels.h"
 }  // namespace avx2

@@ -1,81 +1,14 @@
-// The traversal kernels: the walk and its cell visits (the bundle proof, built on them, is in bundle_kernels.h).
-// Not a header of its own: traversal.cpp includes this file twice, inside two namespaces, once compiled for
-// baseline x86-64 and once with AVX2 enabled (see the comment there). It therefore includes nothing and holds no
-// pragma once; everything it uses comes from traversal.cpp's includes.
+// The traversal kernels: the walk and its cell visits (the height accessors it reads through are in
+// height_accessors.h; the bundle proof, built on them, is in bundle_kernels.h).
+// Not a header of its own: kernel_isas.h includes this file twice, inside two namespaces, once compiled for
+// baseline x86-64 and once with AVX2 enabled (see the comment there), for traversal.cpp and traversal_tiled.cpp.
+// It therefore includes nothing and holds no pragma once; everything it uses comes from their includes.
 
 enum class Shape { Bilinear, Triangles, Nearest };
 
 // The arithmetic that surface heights are evaluated in before rounding to Real: at least double.
 template <class Real>
 using Wide = std::conditional_t<(sizeof(Real) > sizeof(double)), Real, double>;
-
-// Height access in the hot loop, one kind per storage, each returning exactly HeightGrid::at's value. The
-// walk reads a whole grid's cell flags and pyramid from the grid; a tiled grid's accessor (TiledHeights) brings
-// its own.
-struct Float32Heights {
-    static constexpr bool kTiled = false;
-    const float* h;
-    int64_t width;
-    float operator()(int64_t i, int64_t j) const { return h[j * width + i]; }
-    void prefetch(int64_t i, int64_t j) const { __builtin_prefetch(h + (j * width + i)); }
-};
-struct Int16Heights {
-    static constexpr bool kTiled = false;
-    const int16_t* q;
-    int64_t width;
-    int32_t offset;
-    double scale;
-    float operator()(int64_t i, int64_t j) const { return decodeHeightCode(q[j * width + i], offset, scale); }
-    void prefetch(int64_t i, int64_t j) const { __builtin_prefetch(q + (j * width + i)); }
-};
-// One metre per code: the decoded height is the integer itself (exact in float below 2^24 m).
-struct Int16UnitHeights {
-    static constexpr bool kTiled = false;
-    const int16_t* q;
-    int64_t width;
-    int32_t offset;
-    float operator()(int64_t i, int64_t j) const { return float(int32_t(q[j * width + i]) + offset); }
-    void prefetch(int64_t i, int64_t j) const { __builtin_prefetch(q + (j * width + i)); }
-};
-// A tiled grid's (docs/architecture.md, "Tiled grids"): heights, cell flags and the lower pyramid levels come
-// from the tile holding the cell, the levels above from the grid. One accessor serves one thread's traces: it
-// keeps the last tile it used, so a walk asks the source only when it moves to another tile. Values are the
-// tile's, which holds them as the whole grid would: the walk takes the same steps and finds the same hits.
-struct TiledHeights {
-    static constexpr bool kTiled = true;
-    const TileSource* source;
-    HeightGrid::PyramidView resident;  // levels above tileLevels
-    int tileLevels;
-    int64_t cellsX, cellsY;
-    mutable std::shared_ptr<const HeightTile> tile{};
-    mutable int64_t x0 = 1, x1 = 0, y0 = 1, y1 = 0;  // the current tile's cells, inclusive
-
-    // The tile holding cell (i, j).
-    const HeightTile& cellTile(int64_t i, int64_t j) const {
-        if (i < x0 || i > x1 || j < y0 || j > y1) [[unlikely]] {
-            tile = source->tile(i / kTileCells, j / kTileCells);
-            x0 = tile->firstX();
-            y0 = tile->firstY();
-            x1 = x0 + tile->verticesX() - 2;
-            y1 = y0 + tile->verticesY() - 2;
-        }
-        return *tile;
-    }
-    // Vertex (i, j): the current tile when it holds the vertex (it holds its cells' far edges too).
-    float operator()(int64_t i, int64_t j) const {
-        if (i < x0 || i > x1 + 1 || j < y0 || j > y1 + 1) [[unlikely]]
-            return cellTile(std::min(i, cellsX - 1), std::min(j, cellsY - 1)).at(i, j);
-        return tile->at(i, j);
-    }
-    void prefetch(int64_t, int64_t) const {}
-    bool cellValid(int64_t i, int64_t j) const { return cellTile(i, j).cellValid(i, j); }
-    int16_t code(int k, int64_t bi, int64_t bj) const {
-        return k > tileLevels ? resident.code(k, bi, bj) : cellTile(bi << k, bj << k).maxCode(k, bi, bj);
-    }
-    int16_t minCode(int k, int64_t bi, int64_t bj) const {
-        return k > tileLevels ? resident.minCode(k, bi, bj) : cellTile(bi << k, bj << k).minCode(k, bi, bj);
-    }
-};
 
 // The corners of a cell (as read, exact in double) relative to its own h00. Cell math runs on heights relative
 // to the cell's h00, so float rounding scales with the cell's relief, not with its altitude (8000 m peaks keep
