@@ -10,6 +10,12 @@ namespace terracast::cli {
 
 namespace {
 
+void addResume(CLI::App& cmd, bool& resume) {
+    cmd.add_flag("--resume", resume,
+                 "Keep the output tiles an interrupted run of the same command left in OUTPUT.partial and compute "
+                 "only the others");
+}
+
 void addThreadsAndMethod(CLI::App& cmd, int& threads, std::string& method) {
     cmd.add_option("--method", method, "Direct cell method (default bilinear)");
     cmd.add_option("--threads", threads, "Worker threads, 0 = all cores")->check(nonNegativeInteger());
@@ -35,6 +41,7 @@ void addMapCommands(CLI::App& app, Commands& commands) {
         auto* cmd = app.add_subcommand("shadow", "Sun shadow mask per DEM vertex (1 blocked, 0 lit), as GeoTIFF");
         addDemOptions(*cmd, t->options.dem);
         cmd->add_option("-o,--output", t->options.output, "Output GeoTIFF (.tif) on the DEM's grid")->required();
+        addResume(*cmd, t->options.resume);
         cmd->add_option("--sun", t->sun, "Sun azimuth,elevation in degrees (default 315,35)");
         cmd->add_option("--sun-size", t->options.sunSizeDeg,
                         "Sun's angular diameter in degrees; > 0 gives the blocked fraction (default 0: a point)");
@@ -65,6 +72,7 @@ void addMapCommands(CLI::App& app, Commands& commands) {
             "horizon", "Horizon elevation angle in degrees per DEM vertex towards an azimuth (or one band per azimuth)");
         addDemOptions(*cmd, t->options.dem);
         cmd->add_option("-o,--output", t->options.output, "Output GeoTIFF (.tif) on the DEM's grid")->required();
+        addResume(*cmd, t->options.resume);
         auto* one = cmd->add_option("--azimuth", t->azimuth, "Azimuth in degrees clockwise from north");
         auto* many = cmd->add_option("--azimuths", t->azimuths,
                                      "START:END:STEP in degrees, END excluded: one band per azimuth, in one pass "
@@ -96,6 +104,7 @@ void addMapCommands(CLI::App& app, Commands& commands) {
                                               "(three bands), from exact horizons");
         addDemOptions(*cmd, t->options.dem);
         cmd->add_option("-o,--output", t->options.output, "Output GeoTIFF (.tif) on the DEM's grid")->required();
+        addResume(*cmd, t->options.resume);
         cmd->add_option("--directions", t->options.directions, "Azimuths, evenly spaced from north (default 16)");
         addSearchOptions(*cmd, t->options.maxDistanceM, t->options.curvatureCoeff,
                          "Search radius in metres (default 0: 10 cells)");
@@ -118,6 +127,7 @@ void addMapCommands(CLI::App& app, Commands& commands) {
                                                      "cast shadows (five bands; r.sun's model)");
         addDemOptions(*cmd, t->options.dem);
         cmd->add_option("-o,--output", t->options.output, "Output GeoTIFF (.tif) on the DEM's grid")->required();
+        addResume(*cmd, t->options.resume);
         cmd->add_option("--date", t->dates,
                         "A day YYYY-MM-DD or dates START/END (END included), local solar days at the DEM's centre")
             ->required();
@@ -149,6 +159,7 @@ void addMapCommands(CLI::App& app, Commands& commands) {
             app.add_subcommand("viewshed", "Visibility from an observer per DEM vertex (1 visible, 0 hidden)");
         addDemOptions(*cmd, v.dem);
         cmd->add_option("-o,--output", v.output, "Output GeoTIFF (.tif) on the DEM's grid")->required();
+        addResume(*cmd, v.resume);
         auto* one = cmd->add_option("--observer", t->observer, "Observer X,Y in the DEM's CRS (lon,lat with --lonlat)");
         auto* many = cmd->add_option("--observers", v.observersFile,
                                      "Many observers: a CSV of X,Y[,HEIGHT] in the DEM's CRS or a vector file of points "

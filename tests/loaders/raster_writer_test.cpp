@@ -58,7 +58,7 @@ std::string wktOf(GDALDataset& dataset) {
 std::string writeInputError(const std::string& path, const GridRaster& raster) {
     GeoReference geo;
     try {
-        writeGeoTiff(path, raster, RasterType::Float32, geo, 0.0, 0.0, 1.0, 1.0);
+        writeGeoTiff(path, raster, RasterType::Float32, {geo, 0.0, 0.0, 1.0, 1.0});
     } catch (const InputError& e) {
         return e.what();
     }
@@ -98,8 +98,8 @@ TEST_CASE("A raster written on the Mt St Helens grid overlays the source file ex
 
     TempDir dir;
     const std::string path = dir.file("heights.tif");
-    writeGeoTiff(path, raster, RasterType::Float32, dem.geo, dem.geo.originX, dem.geo.originY,
-                 sourcePixelSizeX(dem.geo), sourcePixelSizeY(dem.geo));
+    writeGeoTiff(path, raster, RasterType::Float32, {dem.geo, dem.geo.originX, dem.geo.originY,
+                 sourcePixelSizeX(dem.geo), sourcePixelSizeY(dem.geo)});
     CHECK(dir.entryCount() == 1);  // no temporary file left behind
 
     GDALDatasetUniquePtr source = openRaster(kStHelens);
@@ -183,7 +183,7 @@ TEST_CASE("A three-band Byte raster round-trips north-up with clamping, rounding
 
     TempDir dir;
     const std::string path = dir.file("colours.TIFF");  // the extension is matched without regard to case
-    writeGeoTiff(path, raster, RasterType::Byte, geo, 7.0, 45.0, 0.25, 0.5);
+    writeGeoTiff(path, raster, RasterType::Byte, {geo, 7.0, 45.0, 0.25, 0.5});
     CHECK(dir.entryCount() == 1);
 
     GDALDatasetUniquePtr written = openRaster(path);
@@ -241,8 +241,8 @@ TEST_CASE("A raster without a georeference is written without a CRS, in plain pi
 
     TempDir dir;
     const std::string path = dir.file("plain.tif");
-    writeGeoTiff(path, smallRaster(), RasterType::Float32, geo, 0.0, 0.0, sourcePixelSizeX(geo),
-                 sourcePixelSizeY(geo));
+    writeGeoTiff(path, smallRaster(), RasterType::Float32, {geo, 0.0, 0.0, sourcePixelSizeX(geo),
+                 sourcePixelSizeY(geo)});
     GDALDatasetUniquePtr written = openRaster(path);
     const OGRSpatialReference* srs = written->GetSpatialRef();
     CHECK((srs == nullptr || srs->IsEmpty()));
@@ -317,6 +317,6 @@ TEST_CASE("Rasters whose size does not match their values are refused", "[loader
         raster.bands = 0;
         raster.values.clear();
     }
-    CHECK_THROWS_AS(writeGeoTiff(path, raster, RasterType::Float32, geo, 0.0, 0.0, 1.0, 1.0), std::invalid_argument);
+    CHECK_THROWS_AS(writeGeoTiff(path, raster, RasterType::Float32, {geo, 0.0, 0.0, 1.0, 1.0}), std::invalid_argument);
     CHECK(dir.entryCount() == 0);
 }

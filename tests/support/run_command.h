@@ -54,6 +54,7 @@ struct RunSettings {
     std::filesystem::path workDir;    // the child's working folder (the test's own); empty: this process's
     double timeoutS = 60.0;           // then SIGKILL, and the result says hung
     double interruptAfterS = -1.0;    // send `signal` this long after the start (< 0: never)
+    std::filesystem::path interruptWhenExists;  // or as soon as this file exists (empty: never)
     int signal = SIGINT;
     std::string stdinPath = "/dev/null";
 };
@@ -103,7 +104,9 @@ inline ArgsResult runTerracastArgs(const std::vector<std::string>& args, const R
         const pid_t done = ::wait4(pid, &status, WNOHANG, &usage);
         if (done == pid) break;
         const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        if (!signalled && settings.interruptAfterS >= 0.0 && elapsed >= settings.interruptAfterS) {
+        std::error_code ec;
+        if (!signalled && ((settings.interruptAfterS >= 0.0 && elapsed >= settings.interruptAfterS) ||
+                           (!settings.interruptWhenExists.empty() && fs::exists(settings.interruptWhenExists, ec)))) {
             ::kill(pid, settings.signal);
             signalled = true;
         }

@@ -176,8 +176,9 @@ void renderMap(const DemRenderOptions& o, const RunListener& listener) {
             }
         const double pxX = double(dem.grid.width()) / film.width * sourcePixelSizeX(dem.geo);
         const double pxY = double(dem.grid.height()) / film.height * sourcePixelSizeY(dem.geo);
-        writeGeoTiff(o.output, out, RasterType::Byte, dem.geo, dem.geo.originX - 0.5 * sourcePixelSizeX(dem.geo) + 0.5 * pxX,
-                     dem.geo.originY - 0.5 * sourcePixelSizeY(dem.geo) + 0.5 * pxY, pxX, pxY);
+        writeGeoTiff(o.output, out, RasterType::Byte,
+                     RasterPlacement{dem.geo, dem.geo.originX - 0.5 * sourcePixelSizeX(dem.geo) + 0.5 * pxX,
+                                     dem.geo.originY - 0.5 * sourcePixelSizeY(dem.geo) + 0.5 * pxY, pxX, pxY});
     }
     const int64_t rays = image.shadowRays + image.skyRays;
     listener.tell(fmt::format("map {} ({}x{}, {}) in {:.2f} s; shadows {}, {} sky rays per pixel: {} sun + {} sky "

@@ -31,13 +31,16 @@ MapRaster insolationMap(const HeightGrid& grid, const InsolationSettings& s) {
         }
         return steps;
     };
-    // One list of steps for all vertices, or one per block of vertices (made here, before the parallel loop).
+    // One list of steps for all vertices, or one per block of the window's vertices (made here, before the
+    // parallel loop); blocks count from the grid's corner, whatever the window.
     constexpr int64_t B = InsolationSettings::kSunBlock;
-    const int64_t blocksX = s.stepsAt ? (grid.width() + B - 1) / B : 1, blocksY = s.stepsAt ? (grid.height() + B - 1) / B : 1;
+    const VertexWindow w = s.window.within(grid);
+    const int64_t firstX = w.i0 / B, firstY = w.j0 / B;
+    const int64_t blocksX = s.stepsAt ? (w.i1 - 1) / B - firstX + 1 : 1, blocksY = s.stepsAt ? (w.j1 - 1) / B - firstY + 1 : 1;
     std::vector<std::vector<Step>> blocks;
     size_t mostSteps = 0;
-    for (int64_t bj = 0; bj < blocksY; ++bj)
-        for (int64_t bi = 0; bi < blocksX; ++bi) {
+    for (int64_t bj = firstY; bj < firstY + blocksY; ++bj)
+        for (int64_t bi = firstX; bi < firstX + blocksX; ++bi) {
             if (!s.stepsAt) {
                 blocks.push_back(prepare(s.steps));
             } else {
@@ -48,10 +51,10 @@ MapRaster insolationMap(const HeightGrid& grid, const InsolationSettings& s) {
             mostSteps = std::max(mostSteps, blocks.back().size());
         }
     const int64_t walksPerVertex = int64_t(mostSteps);
-    return perVertexBands(grid, kInsolationBands, s.threads, s.progress, walksPerVertex,
+    return perVertexBands(grid, w, kInsolationBands, s.threads, s.progress, walksPerVertex,
                           [&](int64_t i, int64_t j, float* out) {
         if (!vertexOnSurface(grid, i, j)) return;
-        const std::vector<Step>& steps = s.stepsAt ? blocks[size_t((j / B) * blocksX + i / B)] : blocks.front();
+        const std::vector<Step>& steps = s.stepsAt ? blocks[size_t((j / B - firstY) * blocksX + i / B - firstX)] : blocks.front();
         const glm::dvec3 n = vertexNormal(grid, i, j);
         // The way the surface faces (downhill), clockwise from north.
         const ClearSkySurface surface =

@@ -36,6 +36,7 @@ struct InsolationSettings {
     CellMethod method = CellMethod::Bilinear;
     int threads = 0;
     MapProgress progress;
+    VertexWindow window;               // the vertices computed
 };
 
 // Band indices of insolationMap's raster.

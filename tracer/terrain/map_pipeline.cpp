@@ -5,6 +5,7 @@
 #include "loaders/points.h"
 #include "loaders/raster_writer.h"
 #include "tracer/core/angles.h"
+#include "tracer/core/cancel.h"
 #include "tracer/core/errors.h"
 #include "tracer/core/resources.h"
 #include "tracer/core/text.h"
@@ -19,6 +20,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <future>
 #include <optional>
 #include <sstream>
 
@@ -36,52 +40,134 @@ struct RasterLabels {
     std::vector<std::pair<std::string, std::string>> metadata;
 };
 
-// Writes a per-vertex map raster as a GeoTIFF on the DEM's own grid (NaN becomes `noData`).
-void writeVertexRaster(const std::string& path, const LoadedDem& dem, MapRaster r, RasterType type, double noData,
-                       RasterLabels labels) {
-    GridRaster out;
-    out.width = r.width;
-    out.height = r.height;
-    out.bands = r.bands;
-    out.values = std::move(r.values);
-    out.hasNoData = true;
-    out.noDataValue = noData;
-    out.bandDescriptions = std::move(labels.bands);
-    out.bandUnits = std::move(labels.units);
-    out.metadata = std::move(labels.metadata);
-    out.metadata.emplace_back("TERRACAST_SOURCE", dem.path);
-    out.pixelIsPoint = dem.geo.pixelIsPoint;
-    for (float& v : out.values)
-        if (std::isnan(v)) v = float(noData);
-    writeGeoTiff(path, out, type, dem.geo, dem.geo.originX, dem.geo.originY, sourcePixelSizeX(dem.geo),
-                 sourcePixelSizeY(dem.geo));
+// A per-vertex product to write: its sample type, nodata value, labels, and how a window of it is computed
+// (`progress` hears the window's share done and its rays so far).
+struct VertexProduct {
+    int bands = 1;
+    RasterType type = RasterType::Float32;
+    double noData = -9999.0;
+    RasterLabels labels;
+    std::function<MapRaster(const VertexWindow&, const MapProgress&)> compute;
+};
+
+// What writing a product counted: vertices with a value and rays in the tiles computed by this run, and the
+// output's tiles, of which `resumed` were kept from an interrupted run.
+struct ProductCount {
+    int64_t valid = 0;
+    int64_t rays = 0;
+    int64_t tiles = 0;
+    int64_t resumed = 0;
+    int64_t width = 0, height = 0;
+    int bands = 1;
+};
+
+// The DEM as a resumed job must find it again: its path, file size and time, and the grid made of it.
+std::string demIdentity(const LoadedDem& dem) {
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(dem.path, ec);
+    const auto time = std::filesystem::last_write_time(dem.path, ec);
+    return fmt::format("{} {} bytes, modified {}; grid {} x {}, cells {:.17g} x {:.17g} m", dem.path,
+                       ec ? 0 : size, ec ? 0 : int64_t(time.time_since_epoch().count()), dem.grid.width(),
+                       dem.grid.height(), dem.grid.cellSizeXM(), dem.grid.cellSizeYM());
 }
 
-// The memory guard for a per-vertex product of `bands` bands written as `type`: the bands in float while they
-// are computed, GDAL's cache holding the written blocks until the file is flushed (the raster again, in its
-// stored type), strip and compression buffers, and `more` (a second raster, a curved grid). What the process
-// holds already (the grid, libraries) is measured by checkMemory.
+// Writes a per-vertex product on the DEM's own grid as a COG, computed and written an output tile at a time
+// (docs/architecture.md, "Tiled outputs"): NaN becomes `noData`; with `resume` the tiles an interrupted run of
+// the same job finished are kept. The next tile is computed while the last one is written.
+ProductCount writeVertexProduct(const std::string& path, bool resume, const LoadedDem& dem, VertexProduct product,
+                                const RunListener& listener) {
+    RasterLayout layout;
+    layout.width = dem.grid.width();
+    layout.height = dem.grid.height();
+    layout.bands = product.bands;
+    layout.hasNoData = true;
+    layout.noDataValue = product.noData;
+    layout.bandDescriptions = std::move(product.labels.bands);
+    layout.bandUnits = std::move(product.labels.units);
+    layout.metadata = std::move(product.labels.metadata);
+    layout.metadata.emplace_back("TERRACAST_SOURCE", dem.path);
+    layout.pixelIsPoint = dem.geo.pixelIsPoint;
+    const RasterPlacement placement{dem.geo, dem.geo.originX, dem.geo.originY, sourcePixelSizeX(dem.geo),
+                                    sourcePixelSizeY(dem.geo)};
+    TiledGeoTiffWriter writer(path, layout, product.type, placement, demIdentity(dem), resume);
+    ProductCount count;
+    count.width = layout.width;
+    count.height = layout.height;
+    count.bands = layout.bands;
+    count.tiles = writer.tilesX() * writer.tilesY();
+    count.resumed = writer.resumedTiles();
+    if (resume)
+        listener.tell(fmt::format("--resume: {} of {} output tiles kept from '{}'{}", count.resumed, count.tiles,
+                                  writer.partialFolder(),
+                                  writer.discardedTiles() > 0 ? fmt::format(" ({} unreadable ones computed again)",
+                                                                            writer.discardedTiles())
+                                                              : ""));
+    else if (writer.discardedTiles() > 0)
+        listener.tell(fmt::format("removed {} output tiles an unfinished run left in '{}' (--resume continues such a "
+                                  "run)", writer.discardedTiles(), writer.partialFolder()));
+    // Progress over the vertices of the tiles left to compute.
+    double total = 0.0;
+    for (int64_t ty = 0; ty < writer.tilesY(); ++ty)
+        for (int64_t tx = 0; tx < writer.tilesX(); ++tx)
+            if (!writer.finished(tx, ty)) total += double(writer.window(tx, ty).width() * writer.window(tx, ty).height());
+    double doneVertices = 0.0;
+    std::future<void> pending;
+    for (int64_t ty = 0; ty < writer.tilesY(); ++ty)
+        for (int64_t tx = 0; tx < writer.tilesX(); ++tx) {
+            if (writer.finished(tx, ty)) continue;
+            const TiledGeoTiffWriter::Window w = writer.window(tx, ty);
+            const double vertices = double(w.width() * w.height());
+            int64_t tileRays = 0;
+            MapProgress progress;
+            if (listener.progress)
+                progress = [&](double f, int64_t rays) {
+                    tileRays = rays;
+                    listener.progress(total > 0.0 ? (doneVertices + f * vertices) / total : 1.0, count.rays + rays);
+                };
+            else
+                progress = [&](double, int64_t rays) { tileRays = rays; };
+            MapRaster r = product.compute(VertexWindow{w.i0, w.j0, w.i1, w.j1}, progress);
+            count.valid += int64_t(std::count_if(r.values.begin(), r.values.end(), [](float v) { return !std::isnan(v); }));
+            count.rays += tileRays;
+            doneVertices += vertices;
+            if (pending.valid()) pending.get();
+            throwIfCancelled();
+            pending = std::async(std::launch::async, [&writer, tx, ty, values = std::move(r.values)] {
+                writer.write(tx, ty, values.data());
+            });
+        }
+    if (pending.valid()) pending.get();
+    listener.at("writing");
+    writer.commit([&](double f) {
+        if (listener.progress) listener.progress(f, count.rays);
+        return true;
+    });
+    return count;
+}
+
+// The memory guard for a per-vertex product of `bands` bands written as `type`, tile by tile: two tiles in
+// float (one computed while the last is written) with the written one's samples and its compression, then
+// the making of the COG: GDAL's bounded block cache, and buffers of the copy and the overviews (measured on
+// 1025^2 and 4100^2 outputs of 1 to 16 bands: under 32 MiB and 10 MiB per band more); and `more` (a curved
+// grid, a second raster). What the process holds already (the grid, libraries) is measured by checkMemory.
 void checkRasterJob(const LoadedDem& dem, double maxMemoryBytes, int bands, RasterType type, double more,
                     const std::string& what) {
-    const double cells = double(dem.grid.width()) * double(dem.grid.height());
+    const double tile = double(TiledGeoTiffWriter::kTile) * double(TiledGeoTiffWriter::kTile);
     const double stored = type == RasterType::Byte ? 1.0 : 4.0;
-    checkMemory(dem.path, maxMemoryBytes, dem.grid, cells * double(bands) * (4.0 + stored) + 16.0 * 1048576.0 + more,
-                what);
+    const double tiles = 2.0 * tile * double(bands) * (4.0 + stored) + 16.0 * 1048576.0;
+    const double copy = double(TiledGeoTiffWriter::kCopyCacheBytes) + (32.0 + 10.0 * double(bands)) * 1048576.0;
+    checkMemory(dem.path, maxMemoryBytes, dem.grid, std::max(tiles, copy) + more, what);
 }
 
 // The line that ends a raster command: what was written, its size, seconds, rays and peak memory.
-struct RasterShape {
-    int64_t width = 0, height = 0;
-    int bands = 1;
-    explicit RasterShape(const MapRaster& r) : width(r.width), height(r.height), bands(r.bands) {}
-};
 void tellRasterSummary(const RunListener& listener, const std::string& what, const std::string& path,
-                       const RasterShape& r, int64_t rays, const std::string& rayKind,
+                       const ProductCount& c, int64_t rays, const std::string& rayKind,
                        std::chrono::steady_clock::time_point start) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    listener.tell(fmt::format("{} {} ({} x {} vertices{}) in {:.2f} s, {} {} ({:.2f} M/s), peak memory {}", what, path,
-                              r.width, r.height, r.bands > 1 ? fmt::format(", {} bands", r.bands) : "", seconds, rays,
-                              rayKind, seconds > 0.0 ? double(rays) / seconds * 1e-6 : 0.0,
+    listener.tell(fmt::format("{} {} ({} x {} vertices{}, {} tiles{}) in {:.2f} s, {} {} ({:.2f} M/s), peak memory {}",
+                              what, path, c.width, c.height, c.bands > 1 ? fmt::format(", {} bands", c.bands) : "",
+                              c.tiles, c.resumed > 0 ? fmt::format(" of which {} resumed", c.resumed) : "", seconds,
+                              rays, rayKind, seconds > 0.0 ? double(rays) / seconds * 1e-6 : 0.0,
                               humanBytes(peakResidentBytes())));
 }
 
@@ -139,6 +225,8 @@ void writeShadowSeries(const ShadowMapOptions& o, const RunListener& listener) {
     labels.units = {"1"};
     labels.metadata = {{"TERRACAST_PRODUCT", "shadow"},
                        {"TERRACAST_SUN_TIMES", times},
+                       {"TERRACAST_MAX_DISTANCE_M", number(o.maxDistanceM)},
+                       {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
                        {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
     listener.tell(fmt::format("{} sun times from {} to {}, the sun above the horizon at {} of them", o.sunTimes.size(),
                               formatUtc(o.sunTimes.front()), formatUtc(o.sunTimes.back()), up));
@@ -146,11 +234,12 @@ void writeShadowSeries(const ShadowMapOptions& o, const RunListener& listener) {
                    fmt::format("{} shadow bands", suns.size()));
     listener.at("shadow");
     const auto start = std::chrono::steady_clock::now();
-    MapRaster masks = shadowMasks(dem.grid, suns, method, o.threads, search, listener.progress);
-    const int64_t valid = int64_t(std::count_if(masks.values.begin(), masks.values.end(), [](float v) { return !std::isnan(v); }));
-    const RasterShape shape(masks);
-    writeVertexRaster(o.output, dem, std::move(masks), RasterType::Byte, 255.0, std::move(labels));
-    tellRasterSummary(listener, "shadow masks", o.output, shape, valid, "shadow walks", start);
+    VertexProduct product{int(suns.size()), RasterType::Byte, 255.0, std::move(labels),
+                          [&](const VertexWindow& w, const MapProgress& progress) {
+                              return shadowMasks(dem.grid, suns, method, o.threads, search, progress, w);
+                          }};
+    const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
+    tellRasterSummary(listener, "shadow masks", o.output, count, count.valid, "shadow walks", start);
 }
 
 }  // namespace
@@ -247,8 +336,6 @@ void writeShadowMap(const ShadowMapOptions& o, const RunListener& listener) {
     listener.at("shadow");
     const auto start = std::chrono::steady_clock::now();
     const int samples = 16;
-    MapRaster mask = shadowMask(dem.grid, radians(o.sunAzimuthDeg), radians(o.sunElevationDeg), method,
-                                      radians(0.5 * o.sunSizeDeg), samples, o.threads, search, listener.progress);
     const bool point = o.sunSizeDeg == 0.0;
     RasterLabels labels;
     labels.bands = {point ? "sun shadow: 1 shadowed, 0 lit" : "share of the sun's disc hidden by terrain"};
@@ -257,13 +344,18 @@ void writeShadowMap(const ShadowMapOptions& o, const RunListener& listener) {
                        {"TERRACAST_SUN_AZIMUTH_DEG", number(o.sunAzimuthDeg)},
                        {"TERRACAST_SUN_ELEVATION_DEG", number(o.sunElevationDeg)},
                        {"TERRACAST_SUN_SIZE_DEG", number(o.sunSizeDeg)},
+                       {"TERRACAST_MAX_DISTANCE_M", number(o.maxDistanceM)},
+                       {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
                        {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
     // A point sun gives 0 or 1: bytes, 255 for nodata; a disc gives fractions.
-    const int64_t valid = int64_t(std::count_if(mask.values.begin(), mask.values.end(), [](float v) { return !std::isnan(v); }));
-    const RasterShape shape(mask);
-    writeVertexRaster(o.output, dem, std::move(mask), point ? RasterType::Byte : RasterType::Float32,
-                      point ? 255.0 : -9999.0, std::move(labels));
-    tellRasterSummary(listener, "shadow mask", o.output, shape, valid * (point ? 1 : samples), "shadow walks", start);
+    VertexProduct product{1, point ? RasterType::Byte : RasterType::Float32, point ? 255.0 : -9999.0,
+                          std::move(labels), [&](const VertexWindow& w, const MapProgress& progress) {
+                              return shadowMask(dem.grid, radians(o.sunAzimuthDeg), radians(o.sunElevationDeg), method,
+                                                radians(0.5 * o.sunSizeDeg), samples, o.threads, search, progress, w);
+                          }};
+    const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
+    tellRasterSummary(listener, "shadow mask", o.output, count, count.valid * (point ? 1 : samples), "shadow walks",
+                      start);
 }
 
 void writeHorizonMap(const HorizonMapOptions& o, const RunListener& listener) {
@@ -290,11 +382,12 @@ void writeHorizonMap(const HorizonMapOptions& o, const RunListener& listener) {
                        {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
     checkRasterJob(dem, o.dem.maxMemoryBytes, int(azimuths.size()), RasterType::Float32, 0.0,
                    fmt::format("{} horizon bands", azimuths.size()));
-    MapRaster horizon = horizonMaps(dem.grid, azimuths, method, o.threads, search, listener.progress);
-    const RasterShape shape(horizon);
-    writeVertexRaster(o.output, dem, std::move(horizon), RasterType::Float32, -9999.0, std::move(labels));
-    tellRasterSummary(listener, "horizon angles", o.output, shape, shape.width * shape.height * shape.bands,
-                      "horizon walks", start);
+    VertexProduct product{int(azimuths.size()), RasterType::Float32, -9999.0, std::move(labels),
+                          [&](const VertexWindow& w, const MapProgress& progress) {
+                              return horizonMaps(dem.grid, azimuths, method, o.threads, search, progress, w);
+                          }};
+    const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
+    tellRasterSummary(listener, "horizon angles", o.output, count, count.rays, "horizon walks", start);
 }
 
 void writeSkyViewMap(const SkyViewMapOptions& o, const RunListener& listener) {
@@ -311,10 +404,9 @@ void writeSkyViewMap(const SkyViewMapOptions& o, const RunListener& listener) {
     checkRasterJob(dem, o.dem.maxMemoryBytes, 3, RasterType::Float32, 0.0, "sky-view factor and openness");
     s.directions = o.directions;
     s.threads = o.threads;
-    s.progress = listener.progress;
     listener.at("svf");
     const auto start = std::chrono::steady_clock::now();
-    MapRaster r = skyView(dem.grid, s);
+    const auto skyViewOf = skyViewMaker(dem.grid, s);
     RasterLabels labels;
     labels.bands = {"sky-view factor (share of the sky visible)", "positive openness", "negative openness"};
     labels.units = {"1", "degree", "degree"};
@@ -323,10 +415,10 @@ void writeSkyViewMap(const SkyViewMapOptions& o, const RunListener& listener) {
                        {"TERRACAST_MAX_DISTANCE_M", number(radius)},
                        {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
                        {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
-    const RasterShape shape(r);
-    writeVertexRaster(o.output, dem, std::move(r), RasterType::Float32, -9999.0, std::move(labels));
+    VertexProduct product{3, RasterType::Float32, -9999.0, std::move(labels), skyViewOf};
+    const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
     listener.tell(fmt::format("sky-view factor and openness: {} directions, search radius {:.1f} m", o.directions, radius));
-    tellRasterSummary(listener, "sky view", o.output, shape, shape.width * shape.height * 2 * o.directions,
+    tellRasterSummary(listener, "sky view", o.output, count, count.width * count.height * 2 * o.directions,
                       "horizon walks", start);
 }
 
@@ -405,10 +497,8 @@ void writeInsolationMap(const InsolationMapOptions& o, const RunListener& listen
                               blocks, InsolationSettings::kSunBlock, InsolationSettings::kSunBlock));
     checkRasterJob(dem, o.dem.maxMemoryBytes, kInsolationBands, RasterType::Float32, 0.0, "insolation bands");
     s.threads = o.threads;
-    s.progress = listener.progress;
     listener.at("insolation");
     const auto start = std::chrono::steady_clock::now();
-    MapRaster r = insolationMap(dem.grid, s);
     RasterLabels labels;
     labels.bands = {"beam (direct) irradiation", "diffuse irradiation", "ground-reflected irradiation",
                     "global irradiation", "hours of direct sun"};
@@ -424,9 +514,15 @@ void writeInsolationMap(const InsolationMapOptions& o, const RunListener& listen
                        {"TERRACAST_MAX_DISTANCE_M", number(o.maxDistanceM)},
                        {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
                        {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
-    const RasterShape shape(r);
-    writeVertexRaster(o.output, dem, std::move(r), RasterType::Float32, -9999.0, std::move(labels));
-    tellRasterSummary(listener, "insolation", o.output, shape, shape.width * shape.height * up,
+    VertexProduct product{kInsolationBands, RasterType::Float32, -9999.0, std::move(labels),
+                          [&](const VertexWindow& w, const MapProgress& progress) {
+                              InsolationSettings tile = s;
+                              tile.window = w;
+                              tile.progress = progress;
+                              return insolationMap(dem.grid, tile);
+                          }};
+    const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
+    tellRasterSummary(listener, "insolation", o.output, count, count.width * count.height * up,
                       "vertex-sun positions", start);
 }
 
@@ -496,26 +592,38 @@ void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) 
                    "the viewshed");
     listener.at("viewshed");
     const auto start = std::chrono::steady_clock::now();
-    MapRaster count;
+    // Each observer's viewshed a window at a time. Makers are kept for the whole run, unless each would hold a
+    // curved copy of the grid: then one is made per window and observer, one copy at a time.
     const size_t n = observers.size();
-    for (size_t k = 0; k < n; ++k) {
-        s.observerXM = observers[k].x;
-        s.observerYM = observers[k].y;
-        s.observerHeightM = observers[k].z;
-        if (listener.progress)
-            s.progress = [&, k](double f, int64_t rays) {
-                listener.progress((double(k) + f) / double(n), int64_t(k) * int64_t(count.values.size()) + rays);
-            };
-        MapRaster one;
+    const auto makerFor = [&](size_t k) {
+        ViewshedSettings one = s;
+        one.observerXM = observers[k].x;
+        one.observerYM = observers[k].y;
+        one.observerHeightM = observers[k].z;
         try {
-            one = viewshed(dem.grid, s);
+            return viewshedMaker(dem.grid, one);
         } catch (const GridError& e) {
             throw InputError(fmt::format("{}: {}", sites[k].where, e.what()));
         }
-        if (k == 0) count = std::move(one);
-        else
-            for (size_t v = 0; v < count.values.size(); ++v) count.values[v] += one.values[v];
-    }
+    };
+    const bool keepMakers = n == 1 || s.curvatureCoeff == 0.0;
+    std::vector<std::function<MapRaster(const VertexWindow&, const MapProgress&)>> makers;
+    if (keepMakers)
+        for (size_t k = 0; k < n; ++k) makers.push_back(makerFor(k));
+    const auto cumulative = [&](const VertexWindow& w, const MapProgress& progress) {
+        MapRaster count;
+        const int64_t vertices = (w.i1 - w.i0) * (w.j1 - w.j0);
+        for (size_t k = 0; k < n; ++k) {
+            const MapProgress one = [&, k](double f, int64_t rays) {
+                progress((double(k) + f) / double(n), int64_t(k) * vertices + rays);
+            };
+            MapRaster seen = keepMakers ? makers[k](w, one) : makerFor(k)(w, one);
+            if (k == 0) count = std::move(seen);
+            else
+                for (size_t v = 0; v < count.values.size(); ++v) count.values[v] += seen.values[v];
+        }
+        return count;
+    };
     const bool many = !o.observersFile.empty();
     RasterLabels labels;
     labels.bands = {many ? "observers that see the vertex" : "visible from the observer: 1 visible, 0 hidden"};
@@ -540,12 +648,11 @@ void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) 
                                                      : o.values == ViewshedValues::Angle ? "angle" : "height");
     // Counts up to 254 fit a byte beside the nodata value 255.
     const bool bytes = n <= 254 && o.values == ViewshedValues::Visible;
-    const int64_t valid = int64_t(std::count_if(count.values.begin(), count.values.end(), [](float v) { return !std::isnan(v); }));
-    const RasterShape shape(count);
-    writeVertexRaster(o.output, dem, std::move(count), bytes ? RasterType::Byte : RasterType::Float32,
-                      bytes ? 255.0 : -9999.0, std::move(labels));
+    VertexProduct product{1, bytes ? RasterType::Byte : RasterType::Float32, bytes ? 255.0 : -9999.0,
+                          std::move(labels), cumulative};
+    const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
     if (many) listener.tell(fmt::format("{} observers from {}", n, o.observersFile));
-    tellRasterSummary(listener, many ? "cumulative viewshed" : "viewshed", o.output, shape, valid * int64_t(n),
+    tellRasterSummary(listener, many ? "cumulative viewshed" : "viewshed", o.output, count, count.valid * int64_t(n),
                       "sight lines", start);
 }
 

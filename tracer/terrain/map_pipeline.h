@@ -1,4 +1,4 @@
-// From a DEM file to a map product on the DEM's own grid, written as a GeoTIFF with its georeference (and the
+// From a DEM file to a map product on the DEM's own grid, written tile by tile as a Cloud Optimized GeoTIFF with its georeference (and the
 // source's pixel-is-point or pixel-is-area declaration), band descriptions, units and the settings in its
 // metadata: the sun shadow mask, horizon angles, sky-view factor and openness, and the viewshed of an
 // observer. Progress goes to the listener while it runs, and one summary line (seconds, rays or horizon walks,
@@ -20,6 +20,7 @@ namespace terracast {
 struct ShadowMapOptions {
     DemSource dem;
     std::string output;                // GeoTIFF on the DEM's grid
+    bool resume = false;               // keep the output tiles an interrupted run of the same job finished
     double sunAzimuthDeg = 315.0;      // clockwise from north
     double sunElevationDeg = 35.0;     // above the horizon
     double sunSizeDeg = 0.0;           // angular diameter; 0 = a point (Byte mask of 0/1), else the blocked fraction
@@ -36,6 +37,7 @@ void writeShadowMap(const ShadowMapOptions& options, const RunListener& listener
 struct HorizonMapOptions {
     DemSource dem;
     std::string output;                // GeoTIFF on the DEM's grid, degrees
+    bool resume = false;
     std::vector<double> azimuthsDeg{180.0};  // clockwise from north, one band each
     double maxDistanceM = 0.0;         // search radius; 0 = the whole DEM
     double curvatureCoeff = 0.0;       // earth curvature less refraction, as viewshed's; 0 = flat earth
@@ -54,6 +56,7 @@ std::vector<double> parseAzimuthRange(const std::string& text, const std::string
 struct SkyViewMapOptions {
     DemSource dem;
     std::string output;                // GeoTIFF on the DEM's grid
+    bool resume = false;
     int directions = 16;               // azimuths
     double maxDistanceM = 0.0;         // search radius; 0 = 10 cells (the Relief Visualization Toolbox's default)
     double curvatureCoeff = 0.0;
@@ -80,6 +83,7 @@ int64_t parseDurationSeconds(const std::string& text, const std::string& option)
 struct InsolationMapOptions {
     DemSource dem;
     std::string output;                // GeoTIFF on the DEM's grid
+    bool resume = false;
     DateSpan dates;                    // local solar days (of each block of vertices)
     int64_t stepSeconds = 1800;        // time step within a day (r.sun's default half hour)
     int dayStep = 1;                   // every n-th day is computed and stands for the n days from it
@@ -96,6 +100,7 @@ void writeInsolationMap(const InsolationMapOptions& options, const RunListener& 
 struct ViewshedMapOptions {
     DemSource dem;
     std::string output;                // GeoTIFF on the DEM's grid
+    bool resume = false;
     double observerX = 0.0;            // in the DEM's CRS (or longitude with lonLat)
     double observerY = 0.0;            // in the DEM's CRS (or latitude with lonLat)
     bool lonLat = false;               // observer given as WGS84 longitude, latitude

@@ -236,7 +236,7 @@ private:
 
 MapRaster shadowMask(const HeightGrid& grid, double azimuthRad, double elevationRad, CellMethod method,
                      double sunRadiusRad, int samples, int threads, const HorizonSearch& search,
-                     const MapProgress& progress) {
+                     const MapProgress& progress, const VertexWindow& window) {
     const glm::dvec3 centre = directionFromRadians(azimuthRad, elevationRad);
     std::vector<glm::dvec3> dirs{centre};
     if (sunRadiusRad > 0.0) {
@@ -251,7 +251,7 @@ MapRaster shadowMask(const HeightGrid& grid, double azimuthRad, double elevation
                 dirs.push_back(glm::normalize(centre + r * (std::cos(phi) * e1 + std::sin(phi) * e2)));
             }
     }
-    return perVertex(grid, threads, progress, int64_t(dirs.size()), [&](int64_t i, int64_t j) {
+    return perVertex(grid, window, threads, progress, int64_t(dirs.size()), [&](int64_t i, int64_t j) {
         const VertexView vertex(grid, i, j, method);
         if (!vertex.onSurface()) return kNaN;
         int blocked = 0;
@@ -261,11 +261,11 @@ MapRaster shadowMask(const HeightGrid& grid, double azimuthRad, double elevation
 }
 
 MapRaster shadowMasks(const HeightGrid& grid, const std::vector<glm::dvec2>& sunsRad, CellMethod method, int threads,
-                      const HorizonSearch& search, const MapProgress& progress) {
+                      const HorizonSearch& search, const MapProgress& progress, const VertexWindow& window) {
     std::vector<glm::dvec3> dirs;
     for (const glm::dvec2& sun : sunsRad) dirs.push_back(directionFromRadians(sun.x, sun.y));
     const int n = int(dirs.size());
-    return perVertexBands(grid, n, threads, progress, n, [&](int64_t i, int64_t j, float* out) {
+    return perVertexBands(grid, window, n, threads, progress, n, [&](int64_t i, int64_t j, float* out) {
         const VertexView vertex(grid, i, j, method);
         if (!vertex.onSurface()) return;
         for (int k = 0; k < n; ++k) out[k] = vertex.blocked(dirs[size_t(k)], search) ? 1.0f : 0.0f;
@@ -273,10 +273,10 @@ MapRaster shadowMasks(const HeightGrid& grid, const std::vector<glm::dvec2>& sun
 }
 
 MapRaster horizonMaps(const HeightGrid& grid, const std::vector<double>& azimuthsRad, CellMethod method, int threads,
-                      const HorizonSearch& search, const MapProgress& progress) {
+                      const HorizonSearch& search, const MapProgress& progress, const VertexWindow& window) {
     const int n = int(azimuthsRad.size());
     if (!exactAtVertices(method))
-        return perVertexBands(grid, n, threads, progress, n, [&](int64_t i, int64_t j, float* out) {
+        return perVertexBands(grid, window, n, threads, progress, n, [&](int64_t i, int64_t j, float* out) {
             // Nearest has no surface at the vertex: bisection over occlusion from the surface point under it.
             const VertexView vertex(grid, i, j, method);
             if (!vertex.onSurface()) return;
@@ -285,9 +285,10 @@ MapRaster horizonMaps(const HeightGrid& grid, const std::vector<double>& azimuth
                                                      [&](const glm::dvec3& d) { return vertex.blocked(d); })));
         });
     // One chain per azimuth and row (the rows' chains live in the row loop's thread).
-    return perVertexRows(grid, n, threads, progress, n, [&](int64_t i, int64_t j, float* out, bool chainStart) {
+    return perVertexRows(grid, window, n, threads, progress, n,
+                         [&](int64_t i, int64_t j, float* out, bool chainStart, bool rowStart) {
         thread_local std::vector<HorizonChain> chains;
-        if (i == 0) {
+        if (rowStart) {
             chains.clear();
             for (double az : azimuthsRad) chains.emplace_back(grid, az, method, search);
         }
@@ -304,7 +305,7 @@ MapRaster horizonMap(const HeightGrid& grid, double azimuthRad, CellMethod metho
     return horizonMaps(grid, {azimuthRad}, method, threads, search, progress);
 }
 
-MapRaster skyView(const HeightGrid& grid, const SkyViewSettings& s) {
+std::function<MapRaster(const VertexWindow&, const MapProgress&)> skyViewMaker(const HeightGrid& grid, const SkyViewSettings& s) {
     if (!exactAtVertices(s.method)) throw GridError("sky-view factor and openness need a surface through the vertices, not nearest");
     if (s.directions < 1) throw GridError("sky-view factor: at least one direction is needed");
     // The terrain upside down, for the lowest elevation angles of the negative openness.
@@ -316,22 +317,24 @@ MapRaster skyView(const HeightGrid& grid, const SkyViewSettings& s) {
         for (int64_t j = 0; j < grid.height(); ++j)
             for (int64_t i = 0; i < grid.width(); ++i) valid[size_t(j * grid.width() + i)] = grid.vertexValid(i, j);
     }
-    const HeightGrid below(grid.width(), grid.height(), grid.cellSizeXM(), grid.cellSizeYM(), std::move(flipped),
-                           std::move(valid));
+    const auto below = std::make_shared<const HeightGrid>(grid.width(), grid.height(), grid.cellSizeXM(),
+                                                          grid.cellSizeYM(), std::move(flipped), std::move(valid));
     HorizonSearch belowSearch = s.search;
     belowSearch.dropPerSquareM = -s.search.dropPerSquareM;  // the earth's drop lifts the upside-down terrain
     std::vector<double> azimuths;
     for (int k = 0; k < s.directions; ++k) azimuths.push_back(2.0 * kPi * double(k) / double(s.directions));
     const int64_t n = int64_t(azimuths.size());
-    return perVertexRows(grid, 3, s.threads, s.progress, 2 * n, [&](int64_t i, int64_t j, float* out, bool chainStart) {
+    return [&grid, s, below, belowSearch, azimuths, n](const VertexWindow& window, const MapProgress& progress) {
+    return perVertexRows(grid, window, 3, s.threads, progress, 2 * n,
+                         [&](int64_t i, int64_t j, float* out, bool chainStart, bool rowStart) {
         // Per direction, a chain over the terrain and one over the terrain upside down.
         thread_local std::vector<HorizonChain> up, down;
-        if (i == 0) {
+        if (rowStart) {
             up.clear();
             down.clear();
             for (double az : azimuths) {
                 up.emplace_back(grid, az, s.method, s.search);
-                down.emplace_back(below, az, s.method, belowSearch);
+                down.emplace_back(*below, az, s.method, belowSearch);
             }
         }
         if (!vertexOnSurface(grid, i, j)) {
@@ -357,6 +360,18 @@ MapRaster skyView(const HeightGrid& grid, const SkyViewSettings& s) {
             out[2] = float(under / seen);
         }
     });
+    };
+}
+
+MapRaster skyView(const HeightGrid& grid, const SkyViewSettings& s) { return skyViewMaker(grid, s)(s.window, s.progress); }
+
+VertexWindow VertexWindow::within(const HeightGrid& grid) const {
+    if (whole()) return {0, 0, grid.width(), grid.height()};
+    if (i0 < 0 || j0 < 0 || i1 > grid.width() || j1 > grid.height() || i1 <= i0 || j1 <= j0)
+        throw std::invalid_argument("VertexWindow: [" + std::to_string(i0) + ", " + std::to_string(i1) + ") x [" +
+                                    std::to_string(j0) + ", " + std::to_string(j1) + ") is not within a " +
+                                    std::to_string(grid.width()) + " x " + std::to_string(grid.height()) + " grid");
+    return *this;
 }
 
 MapImage renderMapView(const HeightGrid& grid, const MapViewSettings& s) {

@@ -30,10 +30,22 @@ bool blockedFromVertex(const HeightGrid& grid, int64_t i, int64_t j, const glm::
 // What a map product tells while it runs: the share of vertices done and the rays (or horizon walks) so far.
 using MapProgress = std::function<void(double fraction, int64_t rays)>;
 
+// A rectangle of the grid's vertices: columns [i0, i1), rows [j0, j1). The default (all -1) is the whole grid.
+// A map computed over a window holds the same values there as the whole grid's map (docs/architecture.md,
+// "Tiled outputs"): map products are written a window at a time.
+struct VertexWindow {
+    int64_t i0 = -1, j0 = -1, i1 = -1, j1 = -1;
+    bool whole() const { return i0 < 0; }
+    // This window, or the whole grid's when it is the default; throws std::invalid_argument outside the grid.
+    VertexWindow within(const HeightGrid& grid) const;
+};
+
+// A map over a window of the grid's vertices (the whole grid unless computed over a window).
 struct MapRaster {
     int64_t width = 0;
     int64_t height = 0;
     int bands = 1;
+    int64_t i0 = 0, j0 = 0;        // the grid vertex of value (0, 0)
     std::vector<float> values;     // row 0 south, bands interleaved by vertex; NaN where there is no value (nodata)
     float at(int64_t i, int64_t j, int band = 0) const { return values[size_t((j * width + i) * bands + band)]; }
 };
@@ -44,12 +56,13 @@ struct MapRaster {
 // with `search`'s radius and curvature); nearest asks an occlusion walk from the surface point under the vertex.
 MapRaster shadowMask(const HeightGrid& grid, double azimuthRad, double elevationRad, CellMethod method,
                      double sunRadiusRad = 0.0, int samples = 16, int threads = 0, const HorizonSearch& search = {},
-                     const MapProgress& progress = {});
+                     const MapProgress& progress = {}, const VertexWindow& window = {});
 
 // Per vertex, for many point suns in one pass: band k is 1 where sun k (azimuth, elevation in radians) is
 // blocked, 0 where it is visible, NaN on nodata; decided as shadowMask does.
 MapRaster shadowMasks(const HeightGrid& grid, const std::vector<glm::dvec2>& sunsRad, CellMethod method,
-                      int threads = 0, const HorizonSearch& search = {}, const MapProgress& progress = {});
+                      int threads = 0, const HorizonSearch& search = {}, const MapProgress& progress = {},
+                      const VertexWindow& window = {});
 
 // Per vertex: the horizon angle in degrees towards an azimuth; NaN on nodata, -90 where no surface lies that
 // way. Exact for the methods through the vertices (one horizon walk per vertex, heightfield/horizon.h); for
@@ -59,7 +72,8 @@ MapRaster horizonMap(const HeightGrid& grid, double azimuthRad, CellMethod metho
 
 // The same for many azimuths in one pass over the grid: band k holds azimuth k.
 MapRaster horizonMaps(const HeightGrid& grid, const std::vector<double>& azimuthsRad, CellMethod method,
-                      int threads = 0, const HorizonSearch& search = {}, const MapProgress& progress = {});
+                      int threads = 0, const HorizonSearch& search = {}, const MapProgress& progress = {},
+                      const VertexWindow& window = {});
 
 // Settings of the sky-view factor and openness.
 struct SkyViewSettings {
@@ -68,6 +82,7 @@ struct SkyViewSettings {
     CellMethod method = CellMethod::Bilinear;
     int threads = 0;
     MapProgress progress;
+    VertexWindow window;               // the vertices computed
 };
 
 // Per vertex, from exact horizons in `directions` azimuths: band 0 the sky-view factor, 1 - mean(sin(max(0, g)))
@@ -78,6 +93,11 @@ struct SkyViewSettings {
 // no surface lies within the radius (over the grid's edge) are left out of the openness means and count as an
 // open sky. NaN on nodata and for nearest (which throws).
 MapRaster skyView(const HeightGrid& grid, const SkyViewSettings& settings);
+
+// The same a window at a time: the returned function computes the sky view over any window (telling its
+// progress to the function given with it, not settings.progress), with the terrain
+// turned upside down once. It refers to `grid`, which must outlive it; throws as skyView does.
+std::function<MapRaster(const VertexWindow&, const MapProgress&)> skyViewMaker(const HeightGrid& grid, const SkyViewSettings& settings);
 
 // What a viewshed raster holds per vertex.
 enum class ViewshedValues {
@@ -99,6 +119,7 @@ struct ViewshedSettings {
     CellMethod method = CellMethod::Bilinear;
     int threads = 0;
     MapProgress progress;
+    VertexWindow window;               // the vertices computed (see also viewshedMaker)
 };
 
 // Per vertex: 1 when a target at targetHeightM above it is visible from the observer, 0 when hidden, NaN on
@@ -108,6 +129,12 @@ struct ViewshedSettings {
 // h(target), with s the horizon's tangent from the eye towards the target within its distance D
 // (horizonTangentFrom), at least 0. Throws GridError when the observer is not over the grid's surface.
 MapRaster viewshed(const HeightGrid& grid, const ViewshedSettings& settings);
+
+// The same viewshed a window at a time: the returned function computes settings' viewshed over any window
+// (telling its progress to the function given with it, not settings.progress),
+// with the observer's ground and the curved grid (for curvatureCoeff != 0) found once. It refers to `grid`,
+// which must outlive it; throws as viewshed does.
+std::function<MapRaster(const VertexWindow&, const MapProgress&)> viewshedMaker(const HeightGrid& grid, const ViewshedSettings& settings);
 
 // Settings of the top-down shaded relief.
 struct MapViewSettings {

@@ -18,17 +18,21 @@ namespace terracast::vertex_maps {
 
 inline constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
-// Calls f(i, j, out, chainStart) for every vertex of the grid, with `out` the vertex's `bands` values (NaN until
-// set); `progress` hears the share of vertices done and `raysPerVertex` times their count. In parallel tiles of
-// 64 x 64 vertices, or with `wholeRows` a row at a time from west to east, chainStart true at every 64th vertex:
-// what f carries from one vertex to the next (horizon hints) starts afresh there, so the results do not depend
-// on how rows are shared among threads.
+// Calls f(i, j, out, chainStart) for every vertex of `window` (of the grid: window.within), with `out` the
+// vertex's `bands` values (NaN until set); `progress` hears the share of the window's vertices done and
+// `raysPerVertex` times their count. In parallel tiles of 64 x 64 vertices, or with `wholeRows` a row of the
+// window at a time from west to east (rowStart true at its first vertex), chainStart true at every 64th vertex
+// of the grid: what f carries from one vertex to the next (horizon hints) starts afresh there, so the results
+// depend neither on how rows are shared among threads nor on windows that start at multiples of 64.
 template <class F>
-MapRaster forVertices(const HeightGrid& grid, int bands, int threads, const MapProgress& progress,
-                      int64_t raysPerVertex, bool wholeRows, F&& f) {
+MapRaster forVertices(const HeightGrid& grid, const VertexWindow& window, int bands, int threads,
+                      const MapProgress& progress, int64_t raysPerVertex, bool wholeRows, F&& f) {
+    const VertexWindow w = window.within(grid);
     MapRaster r;
-    r.width = grid.width();
-    r.height = grid.height();
+    r.width = w.i1 - w.i0;
+    r.height = w.j1 - w.j0;
+    r.i0 = w.i0;
+    r.j0 = w.j0;
     r.bands = bands;
     r.values.assign(size_t(r.width * r.height * bands), kNaN);
     std::atomic<int64_t> done{0};
@@ -36,11 +40,13 @@ MapRaster forVertices(const HeightGrid& grid, int bands, int threads, const MapP
     const double total = double(r.width) * double(r.height);
     parallelForTiles(wholeRows ? 1 : int(r.width), int(r.height), wholeRows ? 4 : 64, threads,
                      [&](int x0, int y0, int x1, int y1) {
-                         const int64_t i0 = wholeRows ? 0 : x0, i1 = wholeRows ? r.width : x1;
-                         for (int64_t j = y0; j < y1; ++j)
-                             for (int64_t i = i0; i < i1; ++i)
-                                 f(i, j, &r.values[size_t((j * r.width + i) * bands)], i % 64 == 0);
-                         const int64_t now = done += (i1 - i0) * (y1 - y0);
+                         const int64_t a0 = wholeRows ? 0 : x0, a1 = wholeRows ? r.width : x1;
+                         for (int64_t b = y0; b < y1; ++b)
+                             for (int64_t a = a0; a < a1; ++a) {
+                                 const int64_t i = w.i0 + a, j = w.j0 + b;
+                                 f(i, j, &r.values[size_t((b * r.width + a) * bands)], i % 64 == 0, a == 0);
+                             }
+                         const int64_t now = done += (a1 - a0) * (y1 - y0);
                          if (progress) {
                              std::lock_guard lock(progressMutex);
                              progress(double(now) / total, now * raysPerVertex);
@@ -49,25 +55,26 @@ MapRaster forVertices(const HeightGrid& grid, int bands, int threads, const MapP
     return r;
 }
 
-// Every vertex in parallel tiles, f(i, j, out).
+// Every vertex of the window in parallel tiles, f(i, j, out).
 template <class F>
-MapRaster perVertexBands(const HeightGrid& grid, int bands, int threads, const MapProgress& progress,
-                         int64_t raysPerVertex, F&& f) {
-    return forVertices(grid, bands, threads, progress, raysPerVertex, false,
-                       [&](int64_t i, int64_t j, float* out, bool) { f(i, j, out); });
+MapRaster perVertexBands(const HeightGrid& grid, const VertexWindow& window, int bands, int threads,
+                         const MapProgress& progress, int64_t raysPerVertex, F&& f) {
+    return forVertices(grid, window, bands, threads, progress, raysPerVertex, false,
+                       [&](int64_t i, int64_t j, float* out, bool, bool) { f(i, j, out); });
 }
 
-// Every vertex a row at a time, f(i, j, out, chainStart).
+// Every vertex of the window a row at a time, f(i, j, out, chainStart, rowStart).
 template <class F>
-MapRaster perVertexRows(const HeightGrid& grid, int bands, int threads, const MapProgress& progress,
-                        int64_t raysPerVertex, F&& f) {
-    return forVertices(grid, bands, threads, progress, raysPerVertex, true, std::forward<F>(f));
+MapRaster perVertexRows(const HeightGrid& grid, const VertexWindow& window, int bands, int threads,
+                        const MapProgress& progress, int64_t raysPerVertex, F&& f) {
+    return forVertices(grid, window, bands, threads, progress, raysPerVertex, true, std::forward<F>(f));
 }
 
-// One value per vertex: f(i, j).
+// One value per vertex of the window: f(i, j).
 template <class F>
-MapRaster perVertex(const HeightGrid& grid, int threads, const MapProgress& progress, int64_t raysPerVertex, F&& f) {
-    return perVertexBands(grid, 1, threads, progress, raysPerVertex,
+MapRaster perVertex(const HeightGrid& grid, const VertexWindow& window, int threads, const MapProgress& progress,
+                    int64_t raysPerVertex, F&& f) {
+    return perVertexBands(grid, window, 1, threads, progress, raysPerVertex,
                           [&](int64_t i, int64_t j, float* out) { *out = f(i, j); });
 }
 

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -15,11 +16,11 @@ namespace terracast {
 
 using namespace vertex_maps;
 
-MapRaster viewshed(const HeightGrid& grid, const ViewshedSettings& s) {
+std::function<MapRaster(const VertexWindow&, const MapProgress&)> viewshedMaker(const HeightGrid& grid, const ViewshedSettings& s) {
     // Earth curvature (less refraction) lowers everything by coeff * d^2 / (2 R) with distance d from the
     // observer: trace in a copy of the grid with that drop applied.
     const HeightGrid* g = &grid;
-    std::optional<HeightGrid> curved;
+    std::shared_ptr<const HeightGrid> curved;
     if (s.curvatureCoeff != 0.0) {
         std::vector<float> z = grid.copyHeights();
         std::vector<uint8_t> valid;
@@ -33,8 +34,9 @@ MapRaster viewshed(const HeightGrid& grid, const ViewshedSettings& s) {
                 const double dx = double(i) * grid.cellSizeXM() - s.observerXM, dy = double(j) * grid.cellSizeYM() - s.observerYM;
                 z[size_t(j * grid.width() + i)] -= float(s.curvatureCoeff * (dx * dx + dy * dy) / (2.0 * s.earthRadiusM));
             }
-        curved.emplace(grid.width(), grid.height(), grid.cellSizeXM(), grid.cellSizeYM(), std::move(z), std::move(valid));
-        g = &*curved;
+        curved = std::make_shared<const HeightGrid>(grid.width(), grid.height(), grid.cellSizeXM(), grid.cellSizeYM(),
+                                                    std::move(z), std::move(valid));
+        g = curved.get();
     }
     const auto ground = surfacePointAt(*g, s.observerXM, s.observerYM, s.method);
     if (!ground)
@@ -43,9 +45,10 @@ MapRaster viewshed(const HeightGrid& grid, const ViewshedSettings& s) {
     const glm::dvec3 eye = ground->pointM + glm::dvec3(0.0, 0.0, s.observerHeightM);
     const double cellM = std::min(g->cellSizeXM(), g->cellSizeYM());
     const double endGap = 0.01 * cellM;
-    constexpr double kNearTargetCells = 8.0;
+    static constexpr double kNearTargetCells = 8.0;
     const bool visibleOnly = s.values == ViewshedValues::Visible;
-    return perVertex(*g, s.threads, s.progress, 1, [&](int64_t i, int64_t j) {
+    return [g, curved, s, eye, cellM, endGap, visibleOnly](const VertexWindow& window, const MapProgress& progress) {
+    return perVertex(*g, window, s.threads, progress, 1, [&](int64_t i, int64_t j) {
         if (!g->vertexValid(i, j)) return kNaN;
         const glm::dvec3 target{double(i) * g->cellSizeXM(), double(j) * g->cellSizeYM(),
                                 double(g->at(i, j)) + s.targetHeightM};
@@ -76,6 +79,9 @@ MapRaster viewshed(const HeightGrid& grid, const ViewshedSettings& s) {
         if (visibleOnly) return seen ? 1.0f : 0.0f;
         return seen ? float(degrees(std::atan2(d.z, horizontal))) : kNaN;
     });
+    };
 }
+
+MapRaster viewshed(const HeightGrid& grid, const ViewshedSettings& s) { return viewshedMaker(grid, s)(s.window, s.progress); }
 
 }  // namespace terracast
