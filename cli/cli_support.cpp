@@ -3,6 +3,7 @@
 #include "heightfield/height_grid.h"
 #include "tracer/core/cancel.h"
 #include "tracer/core/errors.h"
+#include "tracer/core/ranks.h"
 #include "tracer/core/text.h"
 
 #include <fmt/core.h>
@@ -19,25 +20,32 @@ namespace terracast::cli {
 
 std::string oneLine(std::string_view text) { return escapeControls(text); }
 
+namespace {
+
+// Prints a failure's line; in a launch of several ranks, names the rank and ends every rank with `code` (the
+// others would wait for this one's tiles).
+int fail(int code, const std::string& line) {
+    fmt::print(stderr, "terracast: {}{}\n", ranks::prefix(), line);
+    if (ranks::size() > 1) ranks::abortAll(code);
+    return code;
+}
+
+}  // namespace
+
 int guarded(const std::function<void()>& job) {
     try {
         job();
         return 0;
     } catch (const Cancelled&) {
-        fmt::print(stderr, "terracast: interrupted; no output written\n");
-        return 130;
+        return fail(130, "interrupted; no output written");
     } catch (const InputError& e) {
-        fmt::print(stderr, "terracast: error: {}\n", oneLine(e.what()));
-        return 2;
+        return fail(2, "error: " + oneLine(e.what()));
     } catch (const GridError& e) {
-        fmt::print(stderr, "terracast: error: {}\n", oneLine(e.what()));
-        return 2;
+        return fail(2, "error: " + oneLine(e.what()));
     } catch (const std::bad_alloc&) {
-        fmt::print(stderr, "terracast: error: out of memory\n");
-        return 1;
+        return fail(1, "error: out of memory");
     } catch (const std::exception& e) {
-        fmt::print(stderr, "terracast: error: {}\n", oneLine(e.what()));
-        return 1;
+        return fail(1, "error: " + oneLine(e.what()));
     }
 }
 
@@ -75,6 +83,8 @@ struct ConsoleListener::Progress {
 };
 
 ConsoleListener::ConsoleListener(bool quiet) : progress_(std::make_unique<Progress>()) {
+    // In a launch of several ranks the leader speaks for all; the others say only why they fail (guarded).
+    if (!ranks::leader()) return;
     Progress* p = progress_.get();
     listener_.output = [p](const std::string& text) {
         p->finish();

@@ -4,6 +4,7 @@
 #include "tracer/core/text.h"
 
 #include "tracer/core/cancel.h"
+#include "tracer/core/ranks.h"
 
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
@@ -83,7 +84,28 @@ int main(int argc, char** argv) {
         fmt::print(stderr, "terracast: error: {} (see terracast --help)\n", cli::oneLine(e.what()));
         return 2;
     }
-    for (const auto& command : commands)
-        if (*command.app) return command.run();
+    // Under mpirun: join the ranks; the map products share their output tiles over them, and the other
+    // commands, which would each write the same output, are refused.
+    try {
+        ranks::start();
+    } catch (const std::exception& e) {
+        fmt::print(stderr, "terracast: error: {}\n", cli::oneLine(e.what()));
+        return 1;
+    }
+    for (const auto& command : commands) {
+        if (!*command.app) continue;
+        const std::string name = command.app->get_name();
+        if (ranks::size() > 1 && name != "shadow" && name != "horizon" && name != "svf" && name != "insolation" &&
+            name != "viewshed") {
+            if (ranks::leader())
+                fmt::print(stderr, "terracast: error: {}: runs as one process; under mpirun only shadow, horizon, svf, "
+                                   "insolation and viewshed share their work over the ranks\n", name);
+            ranks::finish();
+            return 2;
+        }
+        const int code = command.run();
+        ranks::finish();
+        return code;
+    }
     return 2;
 }

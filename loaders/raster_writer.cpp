@@ -135,6 +135,7 @@ struct TiledGeoTiffWriter::State {
     std::atomic<int64_t> written{0};
     int64_t resumed = 0, discarded = 0;
     bool committed = false;
+    Role role = Role::Sole;
 
     std::string tileName(int64_t tx, int64_t ty) const { return fmt::format("tile-{}-{}.tif", tx, ty); }
     std::string tilePath(int64_t tx, int64_t ty) const { return partial + "/" + tileName(tx, ty); }
@@ -154,7 +155,8 @@ struct TiledGeoTiffWriter::State {
 };
 
 TiledGeoTiffWriter::TiledGeoTiffWriter(const std::string& path, const RasterLayout& layout, RasterType type,
-                                       const RasterPlacement& placement, const std::string& job, bool resume)
+                                       const RasterPlacement& placement, const std::string& job, bool resume,
+                                       Role role)
     : s_(std::make_unique<State>()) {
     if (layout.width < 1 || layout.height < 1 || layout.bands < 1 || layout.width > INT32_MAX ||
         layout.height > INT32_MAX || layout.bands > 65535)
@@ -170,6 +172,7 @@ TiledGeoTiffWriter::TiledGeoTiffWriter(const std::string& path, const RasterLayo
     if (ext != ".tif" && ext != ".tiff")
         throw InputError(fmt::format("{}: unsupported output format '{}' (expected .tif)", path, ext));
     State& s = *s_;
+    s.role = role;
     s.path = path;
     s.layout = layout;
     s.type = type;
@@ -193,6 +196,13 @@ TiledGeoTiffWriter::TiledGeoTiffWriter(const std::string& path, const RasterLayo
     } else {
         s.folder = writableFolder(path);
         s.partial = (s.folder / partialName(target)).string();
+    }
+    if (role == Role::Follower) {
+        if (s.inPlace) throw InputError(fmt::format("{}: several processes cannot write to a device", path));
+        if (!vsiExists(s.partial))
+            throw s.fail(fmt::format("the partial output folder '{}' is not there (is the output folder shared "
+                                     "by every rank?)", s.partial));
+        return;
     }
     const std::string jobText = describeJob(layout, type, placement, job);
     const std::string jobPath = s.partial + "/job.txt";
@@ -230,8 +240,10 @@ TiledGeoTiffWriter::TiledGeoTiffWriter(const std::string& path, const RasterLayo
 TiledGeoTiffWriter::~TiledGeoTiffWriter() {
     State& s = *s_;
     if (s.committed) return;
-    // Tiles in memory cannot be resumed; a folder without a finished tile is only litter.
-    if (s.inPlace || (s.resumed == 0 && s.written.load() == 0)) VSIRmdirRecursive(s.partial.c_str());
+    // Tiles in memory cannot be resumed; a folder without a finished tile is only litter (a sole writer knows
+    // that no other process wrote one).
+    if (s.inPlace || (s.role == Role::Sole && s.resumed == 0 && s.written.load() == 0))
+        VSIRmdirRecursive(s.partial.c_str());
 }
 
 int64_t TiledGeoTiffWriter::tilesX() const { return s_->tilesX; }
@@ -249,6 +261,14 @@ TiledGeoTiffWriter::Window TiledGeoTiffWriter::window(int64_t tx, int64_t ty) co
     w.j1 = h - ty * kTile;
     w.j0 = std::max<int64_t>(0, w.j1 - kTile);
     return w;
+}
+
+std::vector<uint8_t> TiledGeoTiffWriter::finishedMask() const { return s_->done; }
+
+void TiledGeoTiffWriter::setFinished(const std::vector<uint8_t>& mask) {
+    if (mask.size() != s_->done.size()) throw std::invalid_argument("TiledGeoTiffWriter::setFinished: wrong size");
+    s_->done = mask;
+    s_->resumed = int64_t(std::count(mask.begin(), mask.end(), uint8_t(1)));
 }
 
 bool TiledGeoTiffWriter::finished(int64_t tx, int64_t ty) const { return s_->done[size_t(ty * s_->tilesX + tx)] != 0; }
@@ -332,6 +352,15 @@ void TiledGeoTiffWriter::write(int64_t tx, int64_t ty, const float* values) {
 
 void TiledGeoTiffWriter::commit(const std::function<bool(double)>& progress) {
     State& s = *s_;
+    if (s.role == Role::Follower) throw std::logic_error("TiledGeoTiffWriter::commit: the leader makes the COG");
+    if (s.role == Role::Leader)
+        for (int64_t ty = 0; ty < s.tilesY; ++ty)
+            for (int64_t tx = 0; tx < s.tilesX; ++tx) {
+                uint8_t& done = s.done[size_t(ty * s.tilesX + tx)];
+                if (!done && !vsiExists(s.tilePath(tx, ty)))
+                    throw s.fail(fmt::format("no process wrote tile {}, {} into '{}'", tx, ty, s.partial));
+                done = 1;
+            }
     if (std::find(s.done.begin(), s.done.end(), 0) != s.done.end())
         throw std::logic_error("TiledGeoTiffWriter::commit: tiles are missing");
     const RasterLayout& l = s.layout;

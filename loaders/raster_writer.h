@@ -67,8 +67,13 @@ public:
         int64_t height() const { return j1 - j0; }
     };
 
+    // Who writes: the only writer; the leader of several processes writing one raster's tiles (it prepares the
+    // partial folder, finds the tiles to keep and makes the COG); or one of the others (it only writes tiles,
+    // into the folder the leader prepared, and learns the kept tiles from the leader: setFinished).
+    enum class Role { Sole, Leader, Follower };
+
     TiledGeoTiffWriter(const std::string& path, const RasterLayout& layout, RasterType type,
-                       const RasterPlacement& placement, const std::string& job, bool resume);
+                       const RasterPlacement& placement, const std::string& job, bool resume, Role role = Role::Sole);
     ~TiledGeoTiffWriter();
     TiledGeoTiffWriter(const TiledGeoTiffWriter&) = delete;
     TiledGeoTiffWriter& operator=(const TiledGeoTiffWriter&) = delete;
@@ -79,6 +84,9 @@ public:
     Window window(int64_t tx, int64_t ty) const;
     // True for a tile kept from an earlier writer (resume) or already written.
     bool finished(int64_t tx, int64_t ty) const;
+    // Per tile in file order, 1 when finished; a follower takes the leader's.
+    std::vector<uint8_t> finishedMask() const;
+    void setFinished(const std::vector<uint8_t>& mask);
     // Tiles kept from an earlier writer; tiles of another job found and removed (a fresh start).
     int64_t resumedTiles() const;
     int64_t discardedTiles() const;

@@ -41,6 +41,7 @@ TEST_CASE("CLI: the executable does not link OpenImageIO and opens the image cod
     const std::string libraries = commandOutput(std::string("ldd '") + TERRACAST_CLI_PATH + "'");
     REQUIRE(libraries.find("libgdal") != std::string::npos);  // ldd answered
     CHECK(libraries.find("libOpenImageIO") == std::string::npos);
+    CHECK(libraries.find("libmpi") == std::string::npos);  // MPI is opened only under mpirun (tracer/core/ranks.h)
 
     const fs::path dir = fs::temp_directory_path() / ("terracast-startup-" + std::to_string(::getpid()));
     fs::remove_all(dir);

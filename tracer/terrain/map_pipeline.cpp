@@ -7,6 +7,7 @@
 #include "tracer/core/angles.h"
 #include "tracer/core/cancel.h"
 #include "tracer/core/errors.h"
+#include "tracer/core/ranks.h"
 #include "tracer/core/resources.h"
 #include "tracer/core/text.h"
 #include "tracer/sky/sun_position.h"
@@ -89,7 +90,20 @@ ProductCount writeVertexProduct(const std::string& path, bool resume, const Load
     layout.pixelIsPoint = dem.geo.pixelIsPoint;
     const RasterPlacement placement{dem.geo, dem.geo.originX, dem.geo.originY, sourcePixelSizeX(dem.geo),
                                     sourcePixelSizeY(dem.geo)};
-    TiledGeoTiffWriter writer(path, layout, product.type, placement, demIdentity(dem), resume);
+    // In a launch of several ranks (tracer/core/ranks.h) the leader prepares the partial folder and makes the COG;
+    // every rank writes the tiles it draws from the shared count into that folder.
+    using Role = TiledGeoTiffWriter::Role;
+    const Role role = ranks::size() == 1 ? Role::Sole : ranks::leader() ? Role::Leader : Role::Follower;
+    std::optional<TiledGeoTiffWriter> made;
+    if (role != Role::Follower) made.emplace(path, layout, product.type, placement, demIdentity(dem), resume, role);
+    ranks::barrier();
+    if (role == Role::Follower) made.emplace(path, layout, product.type, placement, demIdentity(dem), resume, role);
+    TiledGeoTiffWriter& writer = *made;
+    if (role != Role::Sole) {
+        std::vector<uint8_t> mask = writer.finishedMask();
+        ranks::broadcast(mask.data(), mask.size());
+        writer.setFinished(mask);
+    }
     ProductCount count;
     count.width = layout.width;
     count.height = layout.height;
@@ -105,38 +119,48 @@ ProductCount writeVertexProduct(const std::string& path, bool resume, const Load
     else if (writer.discardedTiles() > 0)
         listener.tell(fmt::format("removed {} output tiles an unfinished run left in '{}' (--resume continues such a "
                                   "run)", writer.discardedTiles(), writer.partialFolder()));
-    // Progress over the vertices of the tiles left to compute.
-    double total = 0.0;
+    if (ranks::size() > 1)
+        listener.tell(fmt::format("{} ranks share {} output tiles", ranks::size(), count.tiles - count.resumed));
+    // The tiles left to compute, in file order, handed out one at a time over the ranks; progress counts their
+    // vertices.
+    std::vector<std::pair<int64_t, int64_t>> todo;
+    std::vector<double> before{0.0};
     for (int64_t ty = 0; ty < writer.tilesY(); ++ty)
         for (int64_t tx = 0; tx < writer.tilesX(); ++tx)
-            if (!writer.finished(tx, ty)) total += double(writer.window(tx, ty).width() * writer.window(tx, ty).height());
-    double doneVertices = 0.0;
+            if (!writer.finished(tx, ty)) {
+                todo.emplace_back(tx, ty);
+                const TiledGeoTiffWriter::Window w = writer.window(tx, ty);
+                before.push_back(before.back() + double(w.width() * w.height()));
+            }
+    const double total = before.back();
+    ranks::resetTasks();
     std::future<void> pending;
-    for (int64_t ty = 0; ty < writer.tilesY(); ++ty)
-        for (int64_t tx = 0; tx < writer.tilesX(); ++tx) {
-            if (writer.finished(tx, ty)) continue;
-            const TiledGeoTiffWriter::Window w = writer.window(tx, ty);
-            const double vertices = double(w.width() * w.height());
-            int64_t tileRays = 0;
-            MapProgress progress;
+    for (int64_t k = ranks::nextTask(); k < int64_t(todo.size()); k = ranks::nextTask()) {
+        const auto [tx, ty] = todo[size_t(k)];
+        const TiledGeoTiffWriter::Window w = writer.window(tx, ty);
+        const double vertices = double(w.width() * w.height());
+        int64_t tileRays = 0;
+        MapProgress progress = [&](double f, int64_t rays) {
+            tileRays = rays;
             if (listener.progress)
-                progress = [&](double f, int64_t rays) {
-                    tileRays = rays;
-                    listener.progress(total > 0.0 ? (doneVertices + f * vertices) / total : 1.0, count.rays + rays);
-                };
-            else
-                progress = [&](double, int64_t rays) { tileRays = rays; };
-            MapRaster r = product.compute(VertexWindow{w.i0, w.j0, w.i1, w.j1}, progress);
-            count.valid += int64_t(std::count_if(r.values.begin(), r.values.end(), [](float v) { return !std::isnan(v); }));
-            count.rays += tileRays;
-            doneVertices += vertices;
-            if (pending.valid()) pending.get();
-            throwIfCancelled();
-            pending = std::async(std::launch::async, [&writer, tx, ty, values = std::move(r.values)] {
-                writer.write(tx, ty, values.data());
-            });
-        }
+                listener.progress(total > 0.0 ? (before[size_t(k)] + f * vertices) / total : 1.0, count.rays + rays);
+        };
+        MapRaster r = product.compute(VertexWindow{w.i0, w.j0, w.i1, w.j1}, progress);
+        count.valid += int64_t(std::count_if(r.values.begin(), r.values.end(), [](float v) { return !std::isnan(v); }));
+        count.rays += tileRays;
+        if (pending.valid()) pending.get();
+        throwIfCancelled();
+        pending = std::async(std::launch::async, [&writer, tx = tx, ty = ty, values = std::move(r.values)] {
+            writer.write(tx, ty, values.data());
+        });
+    }
     if (pending.valid()) pending.get();
+    int64_t sums[2] = {count.valid, count.rays};
+    ranks::sum(sums, 2);
+    count.valid = sums[0];
+    count.rays = sums[1];
+    ranks::barrier();  // every rank's tiles are in the folder
+    if (role == Role::Follower) return count;
     listener.at("writing");
     writer.commit([&](double f) {
         if (listener.progress) listener.progress(f, count.rays);

@@ -1,0 +1,50 @@
+// The processes of one run (docs/architecture.md, "Ranks"): this process alone, or the ranks of an MPI launch
+// (`mpirun -n K terracast ...`). MPI lives in a module of its own (libterracast_mpi.so, Open MPI), opened only
+// when the environment shows that mpirun started the process, so a run without mpirun never loads it and
+// behaves as one rank of one.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace terracast::ranks {
+
+// True when an MPI launcher started this process (Open MPI's, or any PMI / PMIx one).
+bool launchedByMpi();
+
+// Joins the launch's ranks (MPI_Init through the module) when launchedByMpi(), else does nothing; once per
+// process. Throws std::runtime_error when the module cannot be loaded or MPI cannot start.
+void start();
+
+// This process's rank and the number of ranks (0 and 1 without a launch).
+int rank();
+int size();
+inline bool leader() { return rank() == 0; }
+
+// Collective operations: every rank must call them, in the same order.
+void barrier();
+// The leader's `bytes` bytes at `data` on every rank.
+void broadcast(void* data, size_t bytes);
+// Sums `count` values over the ranks, in place on every rank.
+void sum(int64_t* values, size_t count);
+// Sums `count` floats over the ranks into the leader's array (the others' arrays are left as they were).
+void sumToLeader(float* values, size_t count);
+// Starts a new shared count of tasks (collective).
+void resetTasks();
+
+// The next task of the shared count: 0, 1, 2, ... handed out once each over all ranks, first come first
+// served (the dynamic load balancing of tiles). Not collective.
+int64_t nextTask();
+
+// Ends every rank of the launch with `code` (MPI_Abort): after a failure on one rank, the others must not wait
+// for it. Without a launch it only exits.
+[[noreturn]] void abortAll(int code);
+
+// Leaves MPI (MPI_Finalize) when start() joined it.
+void finish();
+
+// "rank R of K: " in a launch of more than one rank, else "".
+std::string prefix();
+
+}  // namespace terracast::ranks

@@ -1,0 +1,110 @@
+// The MPI side of tracer/core/ranks.h: a module built against Open MPI and opened with dlopen, so that only
+// runs under mpirun load MPI. Plain C types cross the boundary.
+#include <mpi.h>
+
+#include <cstdint>
+#include <cstdlib>
+
+namespace {
+
+MPI_Win counterWindow = MPI_WIN_NULL;
+int64_t* counter = nullptr;
+
+int init(int* rank, int* size) {
+    int provided = 0;
+    if (MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS) return 1;
+    MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_ARE_FATAL);
+    MPI_Comm_rank(MPI_COMM_WORLD, rank);
+    MPI_Comm_size(MPI_COMM_WORLD, size);
+    // The shared task count: one int64 on rank 0, read and advanced atomically by MPI_Fetch_and_op under a
+    // passive lock that every rank holds for the whole run.
+    const MPI_Aint bytes = *rank == 0 ? MPI_Aint(sizeof(int64_t)) : 0;
+    if (MPI_Win_allocate(bytes, sizeof(int64_t), MPI_INFO_NULL, MPI_COMM_WORLD, &counter, &counterWindow) !=
+        MPI_SUCCESS)
+        return 2;
+    if (*rank == 0) *counter = 0;
+    MPI_Win_lock_all(0, counterWindow);
+    MPI_Barrier(MPI_COMM_WORLD);
+    return 0;
+}
+
+void barrier() { MPI_Barrier(MPI_COMM_WORLD); }
+
+void broadcast(void* data, size_t bytes) {
+    for (size_t done = 0; done < bytes;) {
+        const int chunk = int(bytes - done < (size_t(1) << 30) ? bytes - done : (size_t(1) << 30));
+        MPI_Bcast(static_cast<char*>(data) + done, chunk, MPI_BYTE, 0, MPI_COMM_WORLD);
+        done += size_t(chunk);
+    }
+}
+
+void sumInt64(int64_t* values, size_t count) {
+    MPI_Allreduce(MPI_IN_PLACE, values, int(count), MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);
+}
+
+void sumFloatsToLeader(float* values, size_t count) {
+    int rank = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    for (size_t done = 0; done < count;) {
+        const int chunk = int(count - done < (size_t(1) << 28) ? count - done : (size_t(1) << 28));
+        MPI_Reduce(rank == 0 ? MPI_IN_PLACE : values + done, rank == 0 ? values + done : nullptr, chunk, MPI_FLOAT,
+                   MPI_SUM, 0, MPI_COMM_WORLD);
+        done += size_t(chunk);
+    }
+}
+
+void resetTasks() {
+    int rank = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (rank == 0) {
+        const int64_t zero = 0;
+        int64_t old = 0;
+        MPI_Fetch_and_op(&zero, &old, MPI_INT64_T, 0, 0, MPI_REPLACE, counterWindow);
+        MPI_Win_flush(0, counterWindow);
+    }
+    MPI_Barrier(MPI_COMM_WORLD);
+}
+
+int64_t nextTask() {
+    const int64_t one = 1;
+    int64_t task = 0;
+    MPI_Fetch_and_op(&one, &task, MPI_INT64_T, 0, 0, MPI_SUM, counterWindow);
+    MPI_Win_flush(0, counterWindow);
+    return task;
+}
+
+void abortAll(int code) { MPI_Abort(MPI_COMM_WORLD, code); }
+
+void finalize() {
+    if (counterWindow != MPI_WIN_NULL) {
+        MPI_Win_unlock_all(counterWindow);
+        MPI_Win_free(&counterWindow);
+    }
+    MPI_Finalize();
+}
+
+}  // namespace
+
+extern "C" {
+
+// The module's functions, in the order tracer/core/ranks.cpp expects them.
+struct TerracastRanksApi {
+    int (*init)(int*, int*);
+    void (*barrier)();
+    void (*broadcast)(void*, size_t);
+    void (*sumInt64)(int64_t*, size_t);
+    void (*sumFloatsToLeader)(float*, size_t);
+    void (*resetTasks)();
+    int64_t (*nextTask)();
+    void (*abortAll)(int);
+    void (*finalize)();
+};
+
+__attribute__((visibility("default"))) const TerracastRanksApi* terracastRanks() {
+    static const TerracastRanksApi api{init, barrier, broadcast, sumInt64, sumFloatsToLeader,
+                                       resetTasks, nextTask, abortAll, finalize};
+    return &api;
+}
+
+}  // extern "C"
