@@ -53,6 +53,9 @@ constexpr double kMaxAbsHeightM = 1.0e6;
 constexpr double kMinCellSizeM = 1.0e-6;
 constexpr double kMaxCellSizeM = 1.0e6;
 constexpr double kLargeExtentDeg = 5.0;                              // wider geographic extents get a warning
+// Geographic DEMs whose east-west scale at the north or south edge differs from the centre's by more are refused
+// (a 1-degree tile stays under it up to 80 degrees of latitude).
+constexpr double kMaxFrameDistortion = 0.05;
 constexpr double kFootM = 0.3048;                                    // international foot
 constexpr double kUsSurveyFootM = 1200.0 / 3937.0;                   // US survey foot
 
@@ -229,6 +232,22 @@ Lattice georeference(const std::string& path, GDALDataset& dataset, const DemLoa
         geo.centreLatDeg = centreLatDeg;
         const double extentXDeg = static_cast<double>(width) * pixelX * degreesPerUnit;
         const double extentYDeg = static_cast<double>(height) * pixelY * degreesPerUnit;
+        // The local frame gives every row the centre's metres per degree of longitude: at the north and south
+        // edges a cell's true width is cos(edge) / cos(centre) of that. Beyond kMaxFrameDistortion the DEM
+        // needs a projected CRS.
+        const double distortion = std::max(std::abs(std::cos(radians(edgeLat0)) / std::cos(radians(centreLatDeg)) - 1.0),
+                                           std::abs(std::cos(radians(edgeLat1)) / std::cos(radians(centreLatDeg)) - 1.0));
+        if (distortion > kMaxFrameDistortion) {
+            const double centreLonDeg = (gt[0] + 0.5 * static_cast<double>(width) * gt[1]) * degreesPerUnit;
+            const int zone = std::clamp(int(std::floor((centreLonDeg + 180.0) / 6.0)) + 1, 1, 60);
+            throw InputError(fmt::format(
+                "{}: a geographic DEM of {:.2f} x {:.2f} degrees is too tall for one local metre frame (east-west "
+                "distances at its northern or southern edge would be {:.1f} % off; expected at most {:.0f} %); "
+                "reproject it first, e.g. gdalwarp -t_srs EPSG:{} -r bilinear {} dem-utm.tif (UTM zone {}{} holds "
+                "its centre) or into an equal-area or conformal CRS of the region",
+                path, extentXDeg, extentYDeg, 100.0 * distortion, 100.0 * kMaxFrameDistortion,
+                (centreLatDeg >= 0.0 ? 32600 : 32700) + zone, path, zone, centreLatDeg >= 0.0 ? "N" : "S"));
+        }
         if (extentXDeg > kLargeExtentDeg || extentYDeg > kLargeExtentDeg)
             warnings.push_back(fmt::format("{}: extent {:.2f} x {:.2f} degrees; the local tangent-plane approximation "
                                            "at latitude {:.2f} distorts distances far from the centre",

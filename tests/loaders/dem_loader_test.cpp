@@ -353,14 +353,35 @@ TEST_CASE("A geographic raster spanning many degrees warns about the tangent-pla
     TiffSpec spec;
     spec.bands = {{1, 2, 3, 4, 5, 6, 7, 8, 9}};
     spec.epsg = 4326;
-    const double gt[6] = {0.0, 4.0, 0.0, 50.0, 0.0, -4.0};  // 12 x 12 degrees
+    const double gt[6] = {0.0, 4.0, 0.0, 3.0, 0.0, -2.0};  // 12 x 6 degrees around latitude 0
     std::copy(gt, gt + 6, spec.geoTransform);
     const std::string path = dir.file("large.tif");
     writeTiff(path, spec);
     const LoadedDem dem = loadDem(path);
-    CHECK(dem.geo.centreLatDeg == Approx(44.0));
+    CHECK(dem.geo.centreLatDeg == Approx(0.0));
     CHECK(anyWarningContains(dem, "tangent-plane"));
-    CHECK(dem.grid.cellSizeXM() == Approx(4.0 * metresPerDegree(44.0).lon));
+    CHECK(dem.grid.cellSizeXM() == Approx(4.0 * metresPerDegree(0.0).lon));
+}
+
+TEST_CASE("A geographic raster too tall for one local frame is refused with the way to reproject it",
+          "[loaders]") {
+    TempDir dir;
+    TiffSpec spec;
+    spec.bands = {{1, 2, 3, 4, 5, 6, 7, 8, 9}};
+    spec.epsg = 4326;
+    // 12 x 12 degrees around 44 N, 9 E: at 50 N a cell is cos(50) / cos(44) = 0.894 of the frame's width.
+    const double gt[6] = {3.0, 4.0, 0.0, 50.0, 0.0, -4.0};
+    std::copy(gt, gt + 6, spec.geoTransform);
+    const std::string path = dir.file("mosaic.tif");
+    writeTiff(path, spec);
+    const std::string message = loadError(path);
+    CHECK_THAT(message, Catch::Contains(path) && Catch::Contains("too tall for one local metre frame") &&
+                            Catch::Contains("10.6 % off") && Catch::Contains("gdalwarp -t_srs EPSG:32632"));
+    // A one-degree tile at 79 N is still held (4.6 % at its edges).
+    const double tile[6] = {10.0, 1.0 / 3.0, 0.0, 79.5, 0.0, -1.0 / 3.0};
+    std::copy(tile, tile + 6, spec.geoTransform);
+    writeTiff(dir.file("svalbard.tif"), spec);
+    CHECK(loadDem(dir.file("svalbard.tif")).grid.width() == 3);
 }
 
 TEST_CASE("A multi-band GeoTIFF uses band 1 and says so", "[loaders]") {
