@@ -84,8 +84,8 @@ int main(int argc, char** argv) {
         fmt::print(stderr, "terracast: error: {} (see terracast --help)\n", cli::oneLine(e.what()));
         return 2;
     }
-    // Under mpirun: join the ranks; the map products share their output tiles over them, and the other
-    // commands, which would each write the same output, are refused.
+    // Under mpirun: join the ranks; the map products share their output tiles over them and render its picture's
+    // blocks, and the other commands, which would each write the same output, are refused.
     try {
         ranks::start();
     } catch (const std::exception& e) {
@@ -96,10 +96,10 @@ int main(int argc, char** argv) {
         if (!*command.app) continue;
         const std::string name = command.app->get_name();
         if (ranks::size() > 1 && name != "shadow" && name != "horizon" && name != "svf" && name != "insolation" &&
-            name != "viewshed") {
+            name != "viewshed" && name != "render") {
             if (ranks::leader())
-                fmt::print(stderr, "terracast: error: {}: runs as one process; under mpirun only shadow, horizon, svf, "
-                                   "insolation and viewshed share their work over the ranks\n", name);
+                fmt::print(stderr, "terracast: error: {}: runs as one process; under mpirun only render, shadow, "
+                                   "horizon, svf, insolation and viewshed share their work over the ranks\n", name);
             ranks::finish();
             return 2;
         }

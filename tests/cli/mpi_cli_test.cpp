@@ -1,6 +1,6 @@
-// Map products over the ranks of an MPI launch (Open MPI's mpirun, as root with the flags it needs there): two
-// ranks write the same bytes as one process; a rank that fails ends every rank, exit non-zero, no output; the
-// commands that do not share their work refuse to run under mpirun. Skipped in the sanitizer builds: Open MPI's
+// Map products and renders over the ranks of an MPI launch (Open MPI's mpirun, as root with the flags it needs
+// there): two ranks write the same bytes as one process; a rank that fails ends every rank, exit non-zero, no
+// output; the commands that do not share their work refuse to run under mpirun. Skipped in the sanitizer builds: Open MPI's
 // own allocations are not theirs to judge.
 #include "support/run_command.h"
 #include "support/sanitizers.h"
@@ -77,6 +77,29 @@ TEST_CASE("MPI: two ranks write a map product's bytes as one process does", "[cl
     }
 }
 
+TEST_CASE("MPI: two ranks render a picture's bytes as one process does", "[cli][mpi]") {
+    if (kSanitizedBuild) return;
+    TempDir dir("mpi-render");
+    // Sky-visibility rays and shadows on: every pixel's own random directions, from a tiled DEM.
+    const std::string args = "render '" + kHelens + "' --size 300x200 --sky-samples 4 --threads 1 --tile-cache 500K";
+    const CommandResult one = runTerracast(args + " -o '" + dir.file("one.png") + "'");
+    INFO(one.err);
+    REQUIRE(one.exitCode == 0);
+    const CommandResult two = mpirun(dir, "-n 2 " + cli() + " " + args + " -o two.png");
+    INFO(two.err);
+    REQUIRE(two.exitCode == 0);
+    const std::string a = slurp(dir.file("one.png")), b = slurp(dir.file("two.png"));
+    CHECK(a.size() > 1000);
+    CHECK(a == b);
+    // The summary's ray counts are summed over the ranks: one process's.
+    const auto rays = [](const std::string& err) {
+        const size_t at = err.find(" s: ");
+        return at == std::string::npos ? std::string() : err.substr(at, err.find("rays, ") - at);
+    };
+    CHECK_FALSE(rays(one.err).empty());
+    CHECK(rays(two.err) == rays(one.err));
+}
+
 TEST_CASE("MPI: a rank that fails ends every rank without an output", "[cli][mpi]") {
     if (kSanitizedBuild) return;
     TempDir dir("mpi-fail");
@@ -88,8 +111,13 @@ TEST_CASE("MPI: a rank that fails ends every rank without an output", "[cli][mpi
     CHECK(r.err.find("rank 1 of 2: error: " + dir.file("missing.tif")) != std::string::npos);
     CHECK_FALSE(fs::exists(dir.file("out.tif")));
     // Commands that would each write the whole output are refused under mpirun.
-    const CommandResult render = mpirun(dir, "-n 2 " + cli() + " render '" + kHelens + "' -o r.png --size 32x24");
-    CHECK(render.exitCode == 2);
-    CHECK(render.err.find("render: runs as one process; under mpirun only") != std::string::npos);
-    CHECK_FALSE(fs::exists(dir.file("r.png")));
+    const CommandResult scene =
+        mpirun(dir, "-n 2 " + cli() + " scene '" + kSamples + "lake.toml' -o s.png --size 32x24");
+    CHECK(scene.exitCode == 2);
+    CHECK(scene.err.find("scene: runs as one process; under mpirun only") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir.file("s.png")));
+    const CommandResult map = mpirun(dir, "-n 2 " + cli() + " render '" + kHelens + "' -o m.png --view map");
+    CHECK(map.exitCode == 2);
+    CHECK(map.err.find("render --view map: runs as one process") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir.file("m.png")));
 }

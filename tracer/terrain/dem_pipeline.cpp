@@ -7,6 +7,7 @@
 #include "loaders/raster_writer.h"
 #include "loaders/crs.h"
 #include "tracer/core/errors.h"
+#include "tracer/core/ranks.h"
 #include "tracer/core/resources.h"
 #include "tracer/core/text.h"
 #include "tracer/terrain/maps.h"
@@ -117,6 +118,9 @@ void checkSkySamples(int skySamples) {
 
 // `render --view map`: the top-down shaded relief, as a GeoTIFF on the DEM's georeference or a PNG.
 void renderMap(const DemRenderOptions& o, const RunListener& listener) {
+    if (ranks::size() > 1)
+        throw InputError("render --view map: runs as one process; under mpirun only perspective renders and the map "
+                         "products share their work over the ranks");
     checkOutputPath(o.output, o.dem.path, {".tif", ".tiff", ".png"});
     checkViewValues(o.exaggeration, o.sunElevationDeg);
     if (!(o.scale > 0.0 && o.scale <= 16.0)) throw InputError(fmt::format("--scale: expected (0, 16], found {}", o.scale));
@@ -219,7 +223,8 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     RenderStats stats;
     Film film = renderTerrain(grid, surface, s, &stats);
     const auto rendered = Clock::now();
-    writeImage(o.output, RgbImage{film.width, film.height, std::move(film.rgb)});
+    // In a launch of several ranks the leader holds the whole picture (renderTerrain) and writes it.
+    if (ranks::leader()) writeImage(o.output, RgbImage{film.width, film.height, std::move(film.rgb)});
     const auto written = Clock::now();
     const auto seconds = [](Clock::time_point a, Clock::time_point b) {
         return std::chrono::duration<double>(b - a).count();

@@ -1,7 +1,9 @@
 #include "tracer/terrain/terrain_renderer.h"
 
 #include "tracer/core/parallel.h"
+#include "tracer/core/ranks.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -19,7 +21,7 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
     std::mutex progressMutex;
     const int64_t totalPixels = int64_t(s.width) * s.height;
 
-    parallelForTiles(s.width, s.height, s.tileSize, s.threads, [&](int x0, int y0, int x1, int y1) {
+    const auto renderTile = [&](int x0, int y0, int x1, int y1) {
         int64_t nPrimary = 0, nShadow = 0, nSky = 0, nHits = 0;
         traceCameraRays(surface, s.camera, s.width, s.height, x0, y0, x1, y1,
                         [&](int x, int y, const Ray& ray, const std::optional<HeightFieldHit>& hit) {
@@ -38,9 +40,36 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
         const int64_t done = pixelsDone += int64_t(x1 - x0) * (y1 - y0);
         if (s.progress) {
             std::lock_guard lock(progressMutex);
-            s.progress(double(done) / double(totalPixels), primary.load() + shadow.load() + sky.load());
+            // A rank renders about its share of the pixels.
+            s.progress(std::min(1.0, double(done) / double(totalPixels) * double(ranks::size())),
+                       primary.load() + shadow.load() + sky.load());
         }
-    });
+    };
+
+    if (ranks::size() == 1) {
+        parallelForTiles(s.width, s.height, s.tileSize, s.threads, renderTile);
+    } else {
+        // The ranks of an MPI launch (docs/architecture.md, "Ranks") draw blocks of 4 x 4 work tiles from a shared
+        // count and render them into films of the whole picture, black elsewhere; the leader's film becomes the sum,
+        // which is every pixel exactly as one process renders it (each pixel is rendered once, and x + 0 = x).
+        const int block = 4 * std::max(s.tileSize, 1);
+        const int blocksX = (s.width + block - 1) / block, blocksY = (s.height + block - 1) / block;
+        ranks::resetTasks();
+        for (int64_t k = ranks::nextTask(); k < int64_t(blocksX) * blocksY; k = ranks::nextTask()) {
+            const int bx = int(k % blocksX) * block, by = int(k / blocksX) * block;
+            const int bw = std::min(block, s.width - bx), bh = std::min(block, s.height - by);
+            parallelForTiles(bw, bh, s.tileSize, s.threads, [&](int x0, int y0, int x1, int y1) {
+                renderTile(bx + x0, by + y0, bx + x1, by + y1);
+            });
+        }
+        ranks::sumToLeader(film.rgb.data(), film.rgb.size());
+        int64_t counts[4] = {primary.load(), shadow.load(), sky.load(), hits.load()};
+        ranks::sum(counts, 4);
+        primary = counts[0];
+        shadow = counts[1];
+        sky = counts[2];
+        hits = counts[3];
+    }
 
     if (stats) {
         stats->primaryRays = primary;
