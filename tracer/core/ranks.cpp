@@ -1,27 +1,13 @@
 #include "tracer/core/ranks.h"
 
-#include <dlfcn.h>
+#include "tracer/core/modules.h"
+#include "tracer/core/ranks_api.h"
 
 #include <atomic>
 #include <cstdlib>
-#include <filesystem>
 #include <mutex>
 #include <stdexcept>
 #include <string>
-
-extern "C" {
-struct TerracastRanksApi {
-    int (*init)(int*, int*);
-    void (*barrier)();
-    void (*broadcast)(void*, size_t);
-    void (*sumInt64)(int64_t*, size_t);
-    void (*sumFloatsToLeader)(float*, size_t);
-    void (*resetTasks)();
-    int64_t (*nextTask)();
-    void (*abortAll)(int);
-    void (*finalize)();
-};
-}
 
 namespace terracast::ranks {
 
@@ -31,17 +17,6 @@ const TerracastRanksApi* api = nullptr;  // set by start() in a launch
 int myRank = 0, rankCount = 1;
 std::atomic<int64_t> localTasks{0};
 bool finished = false;
-
-// Where the module is: TERRACAST_MPI_MODULE, else the build's own (when it is still there), else beside the
-// executable.
-std::string modulePath() {
-    if (const char* env = std::getenv("TERRACAST_MPI_MODULE"); env && *env) return env;
-    std::error_code ec;
-    if (std::filesystem::exists(TERRACAST_MPI_MODULE_PATH, ec)) return TERRACAST_MPI_MODULE_PATH;
-    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
-    const std::string name = std::filesystem::path(TERRACAST_MPI_MODULE_PATH).filename().string();
-    return ec ? name : (self.parent_path() / name).string();
-}
 
 bool many() { return api != nullptr && rankCount > 1; }
 
@@ -57,17 +32,10 @@ void start() {
     static std::once_flag once;
     std::call_once(once, [] {
         if (!launchedByMpi()) return;
-        const std::string path = modulePath();
         // Global: Open MPI opens its own components, which look for its symbols in the process.
-        void* module = dlopen(path.c_str(), RTLD_NOW | RTLD_GLOBAL);
-        if (!module) {
-            const char* why = dlerror();
-            throw std::runtime_error("cannot load the MPI module " + path + " (" + (why ? why : "unknown") +
-                                     "); set TERRACAST_MPI_MODULE to its path");
-        }
         using Entry = const TerracastRanksApi* (*)();
-        const auto entry = reinterpret_cast<Entry>(dlsym(module, "terracastRanks"));
-        if (!entry) throw std::runtime_error("the MPI module " + path + " has no terracastRanks entry");
+        const auto entry = reinterpret_cast<Entry>(moduleEntry(modulePath("TERRACAST_MPI_MODULE", TERRACAST_MPI_MODULE_PATH),
+                                                               "terracastRanks", "MPI", "TERRACAST_MPI_MODULE", true));
         const TerracastRanksApi* loaded = entry();
         if (loaded->init(&myRank, &rankCount) != 0) throw std::runtime_error("MPI did not start");
         api = loaded;

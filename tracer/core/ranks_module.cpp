@@ -1,5 +1,7 @@
 // The MPI side of tracer/core/ranks.h: a module built against Open MPI and opened with dlopen, so that only
 // runs under mpirun load MPI. Plain C types cross the boundary.
+#include "tracer/core/ranks_api.h"
+
 #include <mpi.h>
 
 #include <cstdint>
@@ -87,19 +89,6 @@ void finalize() {
 }  // namespace
 
 extern "C" {
-
-// The module's functions, in the order tracer/core/ranks.cpp expects them.
-struct TerracastRanksApi {
-    int (*init)(int*, int*);
-    void (*barrier)();
-    void (*broadcast)(void*, size_t);
-    void (*sumInt64)(int64_t*, size_t);
-    void (*sumFloatsToLeader)(float*, size_t);
-    void (*resetTasks)();
-    int64_t (*nextTask)();
-    void (*abortAll)(int);
-    void (*finalize)();
-};
 
 __attribute__((visibility("default"))) const TerracastRanksApi* terracastRanks() {
     static const TerracastRanksApi api{init, barrier, broadcast, sumInt64, sumFloatsToLeader,

@@ -1,0 +1,19 @@
+// The functions of the MPI module (ranks_module.cpp), as tracer/core/ranks.cpp calls them: plain C types only.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+extern "C" {
+struct TerracastRanksApi {
+    int (*init)(int* rank, int* size);  // 0 when MPI started
+    void (*barrier)();
+    void (*broadcast)(void* data, size_t bytes);
+    void (*sumInt64)(int64_t* values, size_t count);
+    void (*sumFloatsToLeader)(float* values, size_t count);
+    void (*resetTasks)();
+    int64_t (*nextTask)();
+    void (*abortAll)(int code);
+    void (*finalize)();
+};
+}
