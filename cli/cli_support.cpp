@@ -53,6 +53,7 @@ int guarded(const std::function<void()>& job) {
 struct ConsoleListener::Progress {
     bool terminal = isatty(fileno(stderr)) != 0;
     bool dirty = false;
+    std::string detail;  // appended to the progress line
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
     std::chrono::steady_clock::time_point last{};
 
@@ -62,8 +63,8 @@ struct ConsoleListener::Progress {
         last = now;
         const double elapsed = std::chrono::duration<double>(now - start).count();
         const double eta = fraction > 0.0 ? elapsed * (1.0 - fraction) / fraction : 0.0;
-        fmt::print(stderr, "\rrender {:5.1f}%  {:.2f} Mrays/s  ETA {:.0f} s   ", 100.0 * fraction,
-                   elapsed > 0.0 ? double(rays) / elapsed * 1e-6 : 0.0, eta);
+        fmt::print(stderr, "\rrender {:5.1f}%  {:.2f} Mrays/s  ETA {:.0f} s{}{}   ", 100.0 * fraction,
+                   elapsed > 0.0 ? double(rays) / elapsed * 1e-6 : 0.0, eta, detail.empty() ? "" : "  ", detail);
         dirty = true;
     }
     void status(const std::string& text) {
@@ -102,7 +103,10 @@ ConsoleListener::ConsoleListener(bool quiet) : progress_(std::make_unique<Progre
         };
     if (p->terminal) {
         listener_.step = [p](const std::string& text) { p->status(text); };
-        if (!quiet) listener_.progress = [p](double fraction, int64_t rays) { p->update(fraction, rays); };
+        if (!quiet) {
+            listener_.progress = [p](double fraction, int64_t rays) { p->update(fraction, rays); };
+            listener_.detail = [p](const std::string& words) { p->detail = words; };
+        }
     }
 }
 

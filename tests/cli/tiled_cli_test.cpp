@@ -116,3 +116,27 @@ TEST_CASE("Tiled DEM: a DEM larger than --max-memory allows is held as tiles by 
     checkSameBytes(dir, {"render", big, "--size", "96x64", "--sky-samples", "1"}, "render.png",
                    {"--max-memory", "300M"});
 }
+
+TEST_CASE("Tiled DEM: summaries count the tiles read and the reads the cache answered", "[cli][tiles]") {
+    TempDir dir("tiled-traffic");
+    RunSettings settings;
+    settings.workDir = dir.path();
+    // St Helens is 2 x 2 tiles: a shadow mask of every vertex reads each of them at least once.
+    const ArgsResult tiled = runTerracastArgs({"shadow", kHelens, "-o", dir.file("t.tif"), "--tile-cache", "500K"}, settings);
+    INFO(tiled.err);
+    REQUIRE(tiled.exitCode == 0);
+    const size_t at = tiled.err.find("DEM tiles: ");
+    REQUIRE(at != std::string::npos);
+    const long loads = std::stol(tiled.err.substr(at + 11));
+    CHECK(loads >= 4);
+    CHECK(tiled.err.find("% of ", at) != std::string::npos);
+    const ArgsResult render = runTerracastArgs({"render", kHelens, "-o", dir.file("r.png"), "--size", "64x48",
+                                                "--tile-cache", "500K"}, settings);
+    INFO(render.err);
+    REQUIRE(render.exitCode == 0);
+    CHECK(render.err.find("; tiles: ") != std::string::npos);
+    // A DEM held whole says nothing of tiles.
+    const ArgsResult whole = runTerracastArgs({"shadow", kHelens, "-o", dir.file("w.tif")}, settings);
+    REQUIRE(whole.exitCode == 0);
+    CHECK(whole.err.find("tiles: ") == std::string::npos);
+}

@@ -40,7 +40,7 @@ TEST_CASE("Tiled outputs: an interrupted or killed map job resumes to the same b
     const ArgsResult reference = runTerracastArgs(args, settings);
     INFO(reference.err);
     REQUIRE(reference.exitCode == 0);
-    CHECK(reference.err.find("9 tiles") != std::string::npos);
+    CHECK(reference.err.find("9 output tiles") != std::string::npos);
     const std::string expected = slurp(dir.file("reference.tif"));
     REQUIRE(expected.size() > 1000);
 

@@ -15,11 +15,13 @@ struct RunListener {
     std::function<void(const std::string&)> note;     // one line saying what was done (summaries, placements)
     std::function<void(const std::string&)> step;     // the step now running, for a status line
     std::function<void(double fraction, int64_t rays)> progress;  // share of the work done, rays traced so far
+    std::function<void(const std::string&)> detail;   // a few words the progress line adds (tile loads, cache hits)
 
     void print(const std::string& text) const { if (output) output(text); }
     void warn(const std::string& line) const { if (warning) warning(line); }
     void tell(const std::string& line) const { if (note) note(line); }
     void at(const std::string& what) const { if (step) step(what); }
+    void show(const std::string& words) const { if (detail) detail(words); }
 };
 
 }  // namespace terracast

@@ -73,6 +73,23 @@ std::string demInfoReport(const DemSource& source, const RunListener& listener) 
     return out;
 }
 
+std::string tileTraffic(const HeightGrid& grid) {
+    if (!grid.tiled()) return "";
+    const TileCacheStats t = grid.tileSource()->cacheStats();
+    const int64_t reads = t.hits + t.loads;
+    return fmt::format("tiles: {} loaded, {:.1f} % of {} reads from the cache", t.loads,
+                       reads > 0 ? 100.0 * double(t.hits) / double(reads) : 100.0, reads);
+}
+
+std::function<void(double, int64_t)> progressWithTiles(const RunListener& listener, const HeightGrid& grid) {
+    if (!listener.progress) return {};
+    if (!grid.tiled()) return listener.progress;
+    return [&listener, &grid](double fraction, int64_t rays) {
+        listener.show(tileTraffic(grid));
+        listener.progress(fraction, rays);
+    };
+}
+
 void checkViewValues(double exaggeration, double sunElevationDeg) {
     if (!(exaggeration > 0.0) || !std::isfinite(exaggeration))
         throw InputError(fmt::format("--exaggeration: expected a positive number, found {}", exaggeration));
@@ -211,7 +228,7 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     s.sky.haze = o.haze;
     s.sky.samples = o.skySamples < 0 ? 4 : o.skySamples;
     s.seed = o.seed;
-    s.progress = listener.progress;
+    s.progress = progressWithTiles(listener, grid);
 
     loadImageCodec();
     checkMemory(o.dem.path, o.dem.maxMemoryBytes, grid,
@@ -236,12 +253,13 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     phases.write = seconds(rendered, written);
     phases.total = seconds(start, written);
     const int64_t rays = stats.primaryRays + stats.shadowRays + stats.skyVisibilityRays;
+    const std::string tiles = tileTraffic(grid);
     listener.tell(fmt::format("rendered {} ({}x{}, {}, {} sky) in {:.2f} s: {} primary + {} shadow + {} "
-                              "sky-visibility rays, {:.2f} Mrays/s, peak memory {}",
+                              "sky-visibility rays, {:.2f} Mrays/s, peak memory {}{}",
                               o.output, o.width, o.height, surfaceMethodName(o.method), skyKindName(o.sky),
                               stats.seconds, stats.primaryRays, stats.shadowRays, stats.skyVisibilityRays,
                               stats.seconds > 0 ? double(rays) / stats.seconds * 1e-6 : 0.0,
-                              humanBytes(peakResidentBytes())));
+                              humanBytes(peakResidentBytes()), tiles.empty() ? "" : "; " + tiles));
     return phases;
 }
 

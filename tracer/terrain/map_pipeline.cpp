@@ -56,10 +56,11 @@ struct VertexProduct {
 struct ProductCount {
     int64_t valid = 0;
     int64_t rays = 0;
-    int64_t tiles = 0;
+    int64_t outputTiles = 0;
     int64_t resumed = 0;
     int64_t width = 0, height = 0;
     int bands = 1;
+    std::string tiles;  // the DEM's tile traffic (tileTraffic) in this process, for a DEM held as tiles
 };
 
 // The DEM as a resumed job must find it again: its path, file size and time, and the grid made of it.
@@ -108,10 +109,10 @@ ProductCount writeVertexProduct(const std::string& path, bool resume, const Load
     count.width = layout.width;
     count.height = layout.height;
     count.bands = layout.bands;
-    count.tiles = writer.tilesX() * writer.tilesY();
+    count.outputTiles = writer.tilesX() * writer.tilesY();
     count.resumed = writer.resumedTiles();
     if (resume)
-        listener.tell(fmt::format("--resume: {} of {} output tiles kept from '{}'{}", count.resumed, count.tiles,
+        listener.tell(fmt::format("--resume: {} of {} output tiles kept from '{}'{}", count.resumed, count.outputTiles,
                                   writer.partialFolder(),
                                   writer.discardedTiles() > 0 ? fmt::format(" ({} unreadable ones computed again)",
                                                                             writer.discardedTiles())
@@ -120,7 +121,7 @@ ProductCount writeVertexProduct(const std::string& path, bool resume, const Load
         listener.tell(fmt::format("removed {} output tiles an unfinished run left in '{}' (--resume continues such a "
                                   "run)", writer.discardedTiles(), writer.partialFolder()));
     if (ranks::size() > 1)
-        listener.tell(fmt::format("{} ranks share {} output tiles", ranks::size(), count.tiles - count.resumed));
+        listener.tell(fmt::format("{} ranks share {} output tiles", ranks::size(), count.outputTiles - count.resumed));
     // The tiles left to compute, in file order, handed out one at a time over the ranks; progress counts their
     // vertices.
     std::vector<std::pair<int64_t, int64_t>> todo;
@@ -133,6 +134,7 @@ ProductCount writeVertexProduct(const std::string& path, bool resume, const Load
                 before.push_back(before.back() + double(w.width() * w.height()));
             }
     const double total = before.back();
+    const auto showProgress = progressWithTiles(listener, dem.grid);
     ranks::resetTasks();
     std::future<void> pending;
     for (int64_t k = ranks::nextTask(); k < int64_t(todo.size()); k = ranks::nextTask()) {
@@ -142,8 +144,8 @@ ProductCount writeVertexProduct(const std::string& path, bool resume, const Load
         int64_t tileRays = 0;
         MapProgress progress = [&](double f, int64_t rays) {
             tileRays = rays;
-            if (listener.progress)
-                listener.progress(total > 0.0 ? (before[size_t(k)] + f * vertices) / total : 1.0, count.rays + rays);
+            if (showProgress)
+                showProgress(total > 0.0 ? (before[size_t(k)] + f * vertices) / total : 1.0, count.rays + rays);
         };
         MapRaster r = product.compute(VertexWindow{w.i0, w.j0, w.i1, w.j1}, progress);
         count.valid += int64_t(std::count_if(r.values.begin(), r.values.end(), [](float v) { return !std::isnan(v); }));
@@ -160,6 +162,7 @@ ProductCount writeVertexProduct(const std::string& path, bool resume, const Load
     count.valid = sums[0];
     count.rays = sums[1];
     ranks::barrier();  // every rank's tiles are in the folder
+    count.tiles = tileTraffic(dem.grid);
     if (role == Role::Follower) return count;
     listener.at("writing");
     writer.commit([&](double f) {
@@ -188,11 +191,13 @@ void tellRasterSummary(const RunListener& listener, const std::string& what, con
                        const ProductCount& c, int64_t rays, const std::string& rayKind,
                        std::chrono::steady_clock::time_point start) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    listener.tell(fmt::format("{} {} ({} x {} vertices{}, {} tiles{}) in {:.2f} s, {} {} ({:.2f} M/s), peak memory {}",
+    listener.tell(fmt::format("{} {} ({} x {} vertices{}, {} output tile{}{}) in {:.2f} s, {} {} ({:.2f} M/s), peak "
+                              "memory {}{}",
                               what, path, c.width, c.height, c.bands > 1 ? fmt::format(", {} bands", c.bands) : "",
-                              c.tiles, c.resumed > 0 ? fmt::format(" of which {} resumed", c.resumed) : "", seconds,
-                              rays, rayKind, seconds > 0.0 ? double(rays) / seconds * 1e-6 : 0.0,
-                              humanBytes(peakResidentBytes())));
+                              c.outputTiles, c.outputTiles == 1 ? "" : "s",
+                              c.resumed > 0 ? fmt::format(" of which {} resumed", c.resumed) : "",
+                              seconds, rays, rayKind, seconds > 0.0 ? double(rays) / seconds * 1e-6 : 0.0,
+                              humanBytes(peakResidentBytes()), c.tiles.empty() ? "" : "; DEM " + c.tiles));
 }
 
 // The search radius and curvature options as a HorizonSearch.
