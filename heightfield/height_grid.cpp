@@ -352,22 +352,45 @@ HeightGrid::HeightGrid(const GridSummary& summary, double cellSizeXM, double cel
 }
 
 // A tile holding vertex (i, j): the one of the cell it is the lower corner of, or of the last cell.
-std::shared_ptr<const HeightTile> HeightGrid::vertexTile(int64_t i, int64_t j) const {
-    return tiles_->tile(std::min(i, cellsX() - 1) / kTileCells, std::min(j, cellsY() - 1) / kTileCells);
+TileSource::TileSource() {
+    static std::atomic<uint64_t> next{1};
+    serial_ = next++;
 }
 
-float HeightGrid::tiledAt(int64_t i, int64_t j) const { return vertexTile(i, j)->at(i, j); }
-
-bool HeightGrid::tiledVertexValid(int64_t i, int64_t j) const { return vertexTile(i, j)->vertexValid(i, j); }
-
-bool HeightGrid::tiledCellValid(int64_t i, int64_t j) const {
-    return tiles_->tile(i / kTileCells, j / kTileCells)->cellValid(i, j);
+// Single-value reads (at, vertexValid, cellValid, the tile levels' block bounds) on neighbouring vertices mostly
+// stay in one tile: a per-thread memo of the last tile spares them the source's lookup and the shared pointer's
+// reference counting. It holds that one tile per thread beyond the cache's budget.
+const HeightTile& HeightGrid::memoTile(int64_t ti, int64_t tj) const {
+    struct Memo {
+        uint64_t source = 0;
+        int64_t ti = -1, tj = -1;
+        std::shared_ptr<const HeightTile> tile;
+    };
+    thread_local Memo memo;
+    const uint64_t source = tiles_->serial();
+    if (memo.source != source || memo.ti != ti || memo.tj != tj) {
+        memo.tile = tiles_->tile(ti, tj);
+        memo.source = source;
+        memo.ti = ti;
+        memo.tj = tj;
+    }
+    return *memo.tile;
 }
+
+const HeightTile& HeightGrid::vertexTile(int64_t i, int64_t j) const {
+    return memoTile(std::min(i, cellsX() - 1) / kTileCells, std::min(j, cellsY() - 1) / kTileCells);
+}
+
+float HeightGrid::tiledAt(int64_t i, int64_t j) const { return vertexTile(i, j).at(i, j); }
+
+bool HeightGrid::tiledVertexValid(int64_t i, int64_t j) const { return vertexTile(i, j).vertexValid(i, j); }
+
+bool HeightGrid::tiledCellValid(int64_t i, int64_t j) const { return memoTile(i / kTileCells, j / kTileCells).cellValid(i, j); }
 
 double HeightGrid::blockMaxM(int k, int64_t bi, int64_t bj) const {
     const PyramidView view = pyramidView();
     if (tiles_ && k <= tileLevels_)
-        return view.decode(tiles_->tile((bi << k) / kTileCells, (bj << k) / kTileCells)->maxCode(k, bi, bj));
+        return view.decode(memoTile((bi << k) / kTileCells, (bj << k) / kTileCells).maxCode(k, bi, bj));
     return view.blockMaxM(k, bi, bj);
 }
 
@@ -375,7 +398,7 @@ double HeightGrid::blockMinM(int k, int64_t bi, int64_t bj) const {
     if (k < 2) return -std::numeric_limits<double>::infinity();
     const PyramidView view = pyramidView();
     if (tiles_ && k <= tileLevels_)
-        return view.decode(tiles_->tile((bi << k) / kTileCells, (bj << k) / kTileCells)->minCode(k, bi, bj));
+        return view.decode(memoTile((bi << k) / kTileCells, (bj << k) / kTileCells).minCode(k, bi, bj));
     return view.blockMinM(k, bi, bj);
 }
 

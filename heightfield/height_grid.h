@@ -75,11 +75,17 @@ struct GridSummary;
 // [ti * kTileCells, (ti + 1) * kTileCells) x .. (height_tile.h). Must be safe to call from several threads.
 class TileSource {
 public:
+    TileSource();
     virtual ~TileSource() = default;
+    // Unique in the process, never reused: what a memo of a source's tiles is keyed by (an address can be).
+    uint64_t serial() const { return serial_; }
     virtual std::shared_ptr<const HeightTile> tile(int64_t ti, int64_t tj) const = 0;
     // What the source's cache holds and did so far, and the bytes it may hold.
     virtual TileCacheStats cacheStats() const = 0;
     virtual size_t cacheBudgetBytes() const = 0;
+
+private:
+    uint64_t serial_;
 };
 
 // How the heights are held in memory.
@@ -227,7 +233,8 @@ private:
     }
     float decode(int16_t q) const { return decodeHeightCode(q, codeOffset_, codeScale_); }
     void setLattice();
-    std::shared_ptr<const HeightTile> vertexTile(int64_t i, int64_t j) const;
+    const HeightTile& memoTile(int64_t ti, int64_t tj) const;
+    const HeightTile& vertexTile(int64_t i, int64_t j) const;
     float tiledAt(int64_t i, int64_t j) const;
     bool tiledVertexValid(int64_t i, int64_t j) const;
     bool tiledCellValid(int64_t i, int64_t j) const;
