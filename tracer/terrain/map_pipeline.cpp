@@ -21,6 +21,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <functional>
 #include <future>
@@ -136,6 +137,19 @@ ProductCount writeVertexProduct(const std::string& path, bool resume, const Load
     const double total = before.back();
     const auto showProgress = progressWithTiles(listener, dem.grid);
     ranks::resetTasks();
+    // An interruption or a failure keeps the finished tiles: say where, for --resume.
+    struct KeptTiles {
+        const TiledGeoTiffWriter& writer;
+        const RunListener& listener;
+        ~KeptTiles() {
+            if (!std::uncaught_exceptions() || writer.partialFolder().empty()) return;
+            const std::vector<uint8_t> done = writer.finishedMask();
+            const auto kept = std::count(done.begin(), done.end(), uint8_t(1));
+            if (kept > 0)
+                listener.tell(fmt::format("kept {} of {} finished output tiles in '{}' (--resume continues from them)",
+                                          kept, done.size(), writer.partialFolder()));
+        }
+    } keptTiles{writer, listener};
     std::future<void> pending;
     for (int64_t k = ranks::nextTask(); k < int64_t(todo.size()); k = ranks::nextTask()) {
         const auto [tx, ty] = todo[size_t(k)];
