@@ -103,6 +103,9 @@ public:
 
 private:
     struct State;
+    // Makes the partial folder, or takes over the one an earlier run left: its tiles are kept (with `resume`,
+    // those of the same job that GDAL can read) or removed, and job.txt is written for `jobText`.
+    void preparePartialFolder(const std::string& jobText, bool resume);
     std::unique_ptr<State> s_;
 };
 

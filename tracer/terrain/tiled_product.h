@@ -1,0 +1,64 @@
+#pragma once
+// A per-vertex map product computed and written an output tile at a time on the DEM's own grid
+// (docs/architecture.md, "Tiled outputs"), shared by the map commands of map_pipeline.cpp.
+
+#include "loaders/raster_writer.h"
+#include "tracer/terrain/dem_pipeline.h"
+#include "tracer/terrain/maps.h"
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace terracast {
+
+// What a product's GeoTIFF says about itself besides its values.
+struct RasterLabels {
+    std::vector<std::string> bands;    // one description per band
+    std::vector<std::string> units;    // one unit per band, or one for all
+    std::vector<std::pair<std::string, std::string>> metadata;
+};
+
+// A per-vertex product to write: its sample type, nodata value, labels, and how a window of it is computed
+// (`progress` hears the window's share done and its rays so far).
+struct VertexProduct {
+    int bands = 1;
+    RasterType type = RasterType::Float32;
+    double noData = -9999.0;
+    RasterLabels labels;
+    std::function<MapRaster(const VertexWindow&, const MapProgress&)> compute;
+};
+
+// What writing a product counted: vertices with a value and rays in the tiles computed by this run, and the
+// output's tiles, of which `resumed` were kept from an interrupted run.
+struct ProductCount {
+    int64_t valid = 0;
+    int64_t rays = 0;
+    int64_t outputTiles = 0;
+    int64_t resumed = 0;
+    int64_t width = 0, height = 0;
+    int bands = 1;
+    std::string tiles;  // the DEM's tile traffic (tileTraffic) in this process, for a DEM held as tiles
+};
+
+// Writes a per-vertex product on the DEM's own grid as a COG, computed and written an output tile at a time:
+// NaN becomes `noData`; with `resume` the tiles an interrupted run of the same job finished are kept. The next
+// tile is computed while the last one is written. In a launch of several ranks every rank computes the tiles it
+// draws from a shared count, and the leader makes the COG.
+ProductCount writeVertexProduct(const std::string& path, bool resume, const LoadedDem& dem, VertexProduct product,
+                                const RunListener& listener);
+
+// The memory guard for a per-vertex product of `bands` bands written as `type`, with `more` bytes besides
+// (a curved grid, a second raster); `what` names the job in the refusal.
+void checkRasterJob(const LoadedDem& dem, double maxMemoryBytes, int bands, RasterType type, double more,
+                    const std::string& what);
+
+// The line that ends a raster command: what was written, its size, seconds, rays and peak memory.
+void tellRasterSummary(const RunListener& listener, const std::string& what, const std::string& path,
+                       const ProductCount& c, int64_t rays, const std::string& rayKind,
+                       std::chrono::steady_clock::time_point start);
+
+}  // namespace terracast
