@@ -53,7 +53,9 @@ inline CommandResult runTerracast(const std::string& args) {
 struct RunSettings {
     std::filesystem::path workDir;    // the child's working folder (the test's own); empty: this process's
     double timeoutS = 60.0;           // then SIGKILL, and the result says hung
-    double interruptAfterS = -1.0;    // send `signal` this long after the start (< 0: never)
+    // Send `signal` this long after the child has installed its handler for it (< 0: never): counted from
+    // then, so that a slow start (a loaded machine, the sanitizers) does not meet the default action.
+    double interruptAfterS = -1.0;
     std::filesystem::path interruptWhenExists;  // or as soon as this file exists (empty: never)
     int signal = SIGINT;
     std::string stdinPath = "/dev/null";
@@ -63,8 +65,18 @@ struct ArgsResult : CommandResult {
     bool hung = false;       // killed at the timeout
     int termSignal = 0;      // the signal that ended it, if one did
     double seconds = 0.0;    // from start to exit
+    double stopSeconds = 0.0;  // from the interrupting signal to exit (0 when none was sent)
     double peakBytes = 0.0;  // the child's peak resident memory (getrusage's ru_maxrss)
 };
+
+// True when process `pid` has a handler installed for `sig` (its SigCgt mask in /proc).
+inline bool catchesSignal(pid_t pid, int sig) {
+    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+    std::string line;
+    while (std::getline(status, line))
+        if (line.rfind("SigCgt:", 0) == 0) return (std::stoull(line.substr(7), nullptr, 16) >> (sig - 1)) & 1u;
+    return false;
+}
 
 // Runs the executable with `args` (no shell: each argument is passed as it is, newlines and all), its output
 // captured in files beside the test's working folder.
@@ -99,16 +111,19 @@ inline ArgsResult runTerracastArgs(const std::vector<std::string>& args, const R
     ArgsResult r;
     int status = 0;
     bool signalled = false;
+    double caughtAt = -1.0, signalledAt = 0.0;  // when the child was first seen catching the signal; sent it
     struct rusage usage {};
     for (;;) {
         const pid_t done = ::wait4(pid, &status, WNOHANG, &usage);
         if (done == pid) break;
         const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (settings.interruptAfterS >= 0.0 && caughtAt < 0.0 && catchesSignal(pid, settings.signal)) caughtAt = elapsed;
         std::error_code ec;
-        if (!signalled && ((settings.interruptAfterS >= 0.0 && elapsed >= settings.interruptAfterS) ||
+        if (!signalled && ((caughtAt >= 0.0 && elapsed >= caughtAt + settings.interruptAfterS) ||
                            (!settings.interruptWhenExists.empty() && fs::exists(settings.interruptWhenExists, ec)))) {
             ::kill(pid, settings.signal);
             signalled = true;
+            signalledAt = elapsed;
         }
         if (elapsed >= settings.timeoutS) {
             ::kill(pid, SIGKILL);
@@ -119,6 +134,7 @@ inline ArgsResult runTerracastArgs(const std::vector<std::string>& args, const R
         ::usleep(2000);
     }
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (signalled) r.stopSeconds = r.seconds - signalledAt;
     r.peakBytes = double(usage.ru_maxrss) * 1024.0;
     r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     r.termSignal = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
