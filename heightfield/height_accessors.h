@@ -31,22 +31,24 @@ struct Int16UnitHeights {
     void prefetch(int64_t i, int64_t j) const { __builtin_prefetch(q + (j * width + i)); }
 };
 // A tiled grid's (docs/architecture.md, "Tiled grids"): heights, cell flags and the lower pyramid levels come
-// from the tile holding the cell, the levels above from the grid. One accessor serves one thread's traces: it
-// keeps the last tile it used, so a walk asks the source only when it moves to another tile. Values are the
-// tile's, which holds them as the whole grid would: the walk takes the same steps and finds the same hits.
+// from the tile holding the cell, the levels above from the grid. One accessor serves one trace or one bundle of
+// traces, during which nothing else reads the grid's tiles on that thread: it keeps the tile it last used, taken
+// from the grid's per-thread memo (HeightGrid::tileOfCell), so a walk asks for a tile only when it moves to
+// another, without touching a shared count. Values are the tile's, which holds them as the whole grid would:
+// the walk takes the same steps and finds the same hits.
 struct TiledHeights {
     static constexpr bool kTiled = true;
-    const TileSource* source;
+    const HeightGrid* grid;
     HeightGrid::PyramidView resident;  // levels above tileLevels
     int tileLevels;
     int64_t cellsX, cellsY;
-    mutable std::shared_ptr<const HeightTile> tile{};
+    mutable const HeightTile* tile = nullptr;
     mutable int64_t x0 = 1, x1 = 0, y0 = 1, y1 = 0;  // the current tile's cells, inclusive
 
     // The tile holding cell (i, j).
     const HeightTile& cellTile(int64_t i, int64_t j) const {
         if (i < x0 || i > x1 || j < y0 || j > y1) [[unlikely]] {
-            tile = source->tile(i / kTileCells, j / kTileCells);
+            tile = &grid->tileOfCell(i, j);
             x0 = tile->firstX();
             y0 = tile->firstY();
             x1 = x0 + tile->verticesX() - 2;

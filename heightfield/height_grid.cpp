@@ -4,6 +4,7 @@
 #include "heightfield/height_tile.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <bit>
 #include <chrono>
@@ -361,12 +362,15 @@ TileSource::TileSource() {
 // stay in one tile: a per-thread memo of the last tile spares them the source's lookup and the shared pointer's
 // reference counting. It holds that one tile per thread beyond the cache's budget.
 const HeightTile& HeightGrid::memoTile(int64_t ti, int64_t tj) const {
+    // Four tiles per thread, one for each parity of the tile's column and row: a walk along a tile border, or a
+    // run of walks from one tile that end in its neighbours, asks the source only when it first meets a tile.
     struct Memo {
         uint64_t source = 0;
         int64_t ti = -1, tj = -1;
         std::shared_ptr<const HeightTile> tile;
     };
-    thread_local Memo memo;
+    thread_local std::array<Memo, 4> memos;
+    Memo& memo = memos[size_t((ti & 1) | ((tj & 1) << 1))];
     const uint64_t source = tiles_->serial();
     if (memo.source != source || memo.ti != ti || memo.tj != tj) {
         memo.tile = tiles_->tile(ti, tj);
@@ -376,6 +380,8 @@ const HeightTile& HeightGrid::memoTile(int64_t ti, int64_t tj) const {
     }
     return *memo.tile;
 }
+
+const HeightTile& HeightGrid::tileOfCell(int64_t i, int64_t j) const { return memoTile(i / kTileCells, j / kTileCells); }
 
 const HeightTile& HeightGrid::vertexTile(int64_t i, int64_t j) const {
     return memoTile(std::min(i, cellsX() - 1) / kTileCells, std::min(j, cellsY() - 1) / kTileCells);

@@ -124,6 +124,9 @@ public:
     const TileSource* tileSource() const { return tiles_.get(); }
     const std::shared_ptr<const TileSource>& sharedTileSource() const { return tiles_; }
     int tileLevels() const { return tileLevels_; }
+    // For hot loops over a tiled grid: the tile holding cell (i, j), from this thread's memo of its last few
+    // tiles. The reference stays valid until this thread reads another tile of the grid.
+    const HeightTile& tileOfCell(int64_t i, int64_t j) const;
 
     int64_t width() const { return width_; }    // vertices along x
     int64_t height() const { return height_; }  // vertices along y

@@ -1,6 +1,8 @@
 #include "heightfield/height_tile.h"
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <string>
 
@@ -39,8 +41,21 @@ HeightTile::HeightTile(const GridSummary& summary, int64_t firstX, int64_t first
     }
     // As HeightGrid encodes: the nearest code, and the lowest code for a nodata vertex whose value has none.
     codes_.resize(n);
+    const bool unitCodes = codeScale_ == 1.0;
     for (size_t k = 0; k < n; ++k) {
-        const auto code = int16Code(heightsM[k], codeScale_, codeOffset_);
+        // One metre per code (most DEMs): an integer height other than -0 has the code int16Code gives it,
+        // found without its division and rounding; anything else takes int16Code itself.
+        const float z = heightsM[k];
+        if (unitCodes && z > -1.0e9f && z < 1.0e9f) {
+            const int32_t whole = static_cast<int32_t>(z);
+            const int64_t c = int64_t(whole) - codeOffset_;
+            if (static_cast<float>(whole) == z && std::bit_cast<uint32_t>(z) != 0x80000000u &&
+                c >= std::numeric_limits<int16_t>::min() && c <= std::numeric_limits<int16_t>::max()) {
+                codes_[k] = static_cast<int16_t>(c);
+                continue;
+            }
+        }
+        const auto code = int16Code(z, codeScale_, codeOffset_);
         if (!code && (valid == nullptr || valid[k] != 0))
             throw GridError("tile at vertex (" + std::to_string(firstX + int64_t(k) % verticesX) + ", " +
                             std::to_string(firstY + int64_t(k) / verticesX) + "): height " +

@@ -1,5 +1,7 @@
 #include "heightfield/horizon.h"
 
+#include "heightfield/height_tile.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -9,13 +11,55 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+// How a walk reads the grid: heights, cell validity and the pyramid's block maxima, each exactly as the grid's
+// own at, cellValid and blockMaxM return them. A whole grid's reader reads its arrays; a tiled grid's keeps the
+// tile of the last cell it read, so that it asks the grid's per-thread memo only when the walk enters another
+// tile (docs/architecture.md, "Tiled grids").
+struct WholeGridReader {
+    const HeightGrid& g;
+    HeightGrid::PyramidView pyramid = g.pyramidView();
+    float at(int64_t i, int64_t j) const { return g.at(i, j); }
+    bool cellValid(int64_t i, int64_t j) const { return g.wholeCellValid(i, j); }
+    double blockMaxM(int k, int64_t bi, int64_t bj) const { return pyramid.blockMaxM(k, bi, bj); }
+};
+
+struct TiledGridReader {
+    const HeightGrid& g;
+    HeightGrid::PyramidView pyramid = g.pyramidView();  // the levels above the tiles'
+    const HeightTile* tile = nullptr;
+    int64_t x0 = 1, x1 = 0, y0 = 1, y1 = 0;  // the current tile's cells, inclusive
+
+    const HeightTile& cellTile(int64_t i, int64_t j) {
+        if (i < x0 || i > x1 || j < y0 || j > y1) [[unlikely]] {
+            tile = &g.tileOfCell(i, j);
+            x0 = tile->firstX();
+            y0 = tile->firstY();
+            x1 = x0 + tile->verticesX() - 2;
+            y1 = y0 + tile->verticesY() - 2;
+        }
+        return *tile;
+    }
+    // A vertex from the current tile when it holds it (a tile holds its cells' far edges too).
+    float at(int64_t i, int64_t j) {
+        if (i < x0 || i > x1 + 1 || j < y0 || j > y1 + 1) [[unlikely]]
+            return cellTile(std::min(i, g.cellsX() - 1), std::min(j, g.cellsY() - 1)).at(i, j);
+        return tile->at(i, j);
+    }
+    bool cellValid(int64_t i, int64_t j) { return cellTile(i, j).cellValid(i, j); }
+    double blockMaxM(int k, int64_t bi, int64_t bj) {
+        if (k > g.tileLevels()) return pyramid.blockMaxM(k, bi, bj);
+        return pyramid.decode(cellTile(bi << k, bj << k).maxCode(k, bi, bj));
+    }
+};
+
 // One horizon walk. The line runs through grid coordinates u(t) = x0 + t du, v(t) = y0 + t dv (in vertex
 // indices; a vertex's own for the map products, any point for an observer), t in horizontal metres; a point at
 // distance t and height h has the slope (h - z0 - k t^2) / t. `onSurface` says that (x0, y0, z0) lies on the
 // surface, so that the limit t -> 0 is the surface's slope there; above it the limit is -infinity.
+template <class Reader>
 class HorizonWalk {
 public:
-    HorizonWalk(const HeightGrid& g, double x0, double y0, double z0, bool onSurface, double du, double dv,
+    HorizonWalk(Reader& g, double x0, double y0, double z0, bool onSurface, double du, double dv,
                 bool triangles, const HorizonSearch& s, double floor)
         : g_(g), x0_(x0), y0_(y0), du_(du), dv_(dv), invDu_(du != 0.0 ? 1.0 / du : 0.0),
           invDv_(dv != 0.0 ? 1.0 / dv : 0.0), z0_(z0), k_(s.dropPerSquareM), onSurface_(onSurface),
@@ -138,7 +182,7 @@ public:
     }
 
 private:
-    const HeightGrid& g_;
+    Reader& g_;
     double x0_, y0_;
     double du_, dv_, invDu_, invDv_;
     double z0_, k_;
@@ -152,9 +196,10 @@ private:
 // The walk behind horizonTangent and horizonAbove: the supremum of the slopes, or `floor` when none exceeds it;
 // with `stopAbove`, it ends as soon as one does.
 // The origin is (x0, y0) in vertex indices at height z0, on the surface or above it.
-double walkHorizon(const HeightGrid& g, double x0, double y0, double z0, bool onSurface, double dirX, double dirY,
-                   CellMethod method, const HorizonSearch& search, HorizonCounters* counters, double floor,
-                   bool stopAbove, double hintM = 0.0, double* distanceM = nullptr) {
+template <class Reader>
+double walkOver(const HeightGrid& g, Reader& reader, double x0, double y0, double z0, bool onSurface, double dirX,
+                double dirY, CellMethod method, const HorizonSearch& search, HorizonCounters* counters, double floor,
+                bool stopAbove, double hintM, double* distanceM) {
     if (method == CellMethod::Nearest) throw GridError("the horizon walk needs a surface through the vertices, not nearest");
     const double norm = std::hypot(dirX, dirY);
     if (!(norm > 0.0)) return floor;
@@ -162,7 +207,7 @@ double walkHorizon(const HeightGrid& g, double x0, double y0, double z0, bool on
     // A direction within rounding of a grid line (azimuth 90 gives cos(pi / 2), about 6e-17, for y) runs along it.
     if (std::abs(du) < 1e-12 * std::abs(dv)) du = 0.0;
     if (std::abs(dv) < 1e-12 * std::abs(du)) dv = 0.0;
-    HorizonWalk walk(g, x0, y0, z0, onSurface, du, dv, method == CellMethod::Triangles, search, floor);
+    HorizonWalk<Reader> walk(reader, x0, y0, z0, onSurface, du, dv, method == CellMethod::Triangles, search, floor);
     if (hintM > 1e-3 * std::min(g.cellSizeXM(), g.cellSizeYM()) && hintM <= search.maxDistanceM) {
         // The surface point at the hint's distance along the line, when a valid cell holds it: its slope is a lower
         // bound of the supremum, from which the walk starts (and so skips more). A thousandth of a cell out at
@@ -171,9 +216,10 @@ double walkHorizon(const HeightGrid& g, double x0, double y0, double z0, bool on
         const double u = x0 + hintM * du, v = y0 + hintM * dv;
         if (u >= 0.0 && v >= 0.0 && u <= double(g.cellsX()) && v <= double(g.cellsY())) {
             const int64_t ci = std::min(int64_t(u), g.cellsX() - 1), cj = std::min(int64_t(v), g.cellsY() - 1);
-            if (g.cellValid(ci, cj)) {
+            if (reader.cellValid(ci, cj)) {
                 const double fu = u - double(ci), fv = v - double(cj);
-                const double h00 = g.at(ci, cj), h10 = g.at(ci + 1, cj), h01 = g.at(ci, cj + 1), h11 = g.at(ci + 1, cj + 1);
+                const double h00 = reader.at(ci, cj), h10 = reader.at(ci + 1, cj), h01 = reader.at(ci, cj + 1),
+                             h11 = reader.at(ci + 1, cj + 1);
                 double h = 0.0;
                 if (method != CellMethod::Triangles)
                     h = h00 + (h10 - h00) * fu + (h01 - h00) * fv + (h00 - h10 - h01 + h11) * fu * fv;
@@ -202,9 +248,9 @@ double walkHorizon(const HeightGrid& g, double x0, double y0, double z0, bool on
     auto inGrid = [&](int64_t a, int64_t b) { return a >= 0 && b >= 0 && a < nx && b < ny; };
     // Along a grid line a stretch has surface when the cell on either side is valid.
     auto hasSurface = [&](int64_t a, int64_t b) {
-        if (g.cellValid(a, b)) return true;
-        if (du == 0.0 && onLineX && i > 0 && i < nx && a == i) return g.cellValid(i - 1, b);
-        if (dv == 0.0 && onLineY && j > 0 && j < ny && b == j) return g.cellValid(a, j - 1);
+        if (reader.cellValid(a, b)) return true;
+        if (du == 0.0 && onLineX && i > 0 && i < nx && a == i) return reader.cellValid(i - 1, b);
+        if (dv == 0.0 && onLineY && j > 0 && j < ny && b == j) return reader.cellValid(a, j - 1);
         return false;
     };
     // Where the line leaves the grid (or the search radius), from the same crossing parameters as the cells' exits.
@@ -212,11 +258,6 @@ double walkHorizon(const HeightGrid& g, double x0, double y0, double z0, bool on
                                  std::min(du > 0.0 ? walk.atX(nx) : du < 0.0 ? walk.atX(0) : kInf,
                                           dv > 0.0 ? walk.atY(ny) : dv < 0.0 ? walk.atY(0) : kInf));
     const double top = g.maxHeightM();
-    const auto pyramid = g.pyramidView();
-    const bool tiled = g.tiled();  // a tiled grid's lower levels are in its tiles
-    auto blockMax = [&](int k, int64_t bi, int64_t bj) {
-        return tiled ? g.blockMaxM(k, bi, bj) : pyramid.blockMaxM(k, bi, bj);
-    };
     const int levels = g.pyramidLevels();
     auto cannotRaise = [&](double bound, double t, double tFar) { return !walk.canRaise(bound, t, tFar); };
     double t = 0.0;
@@ -234,7 +275,7 @@ double walkHorizon(const HeightGrid& g, double x0, double y0, double z0, bool on
                 const double txb = walk.atX(du > 0.0 ? (bi + 1) << lv : bi << lv);
                 const double tyb = walk.atY(dv > 0.0 ? (bj + 1) << lv : bj << lv);
                 tOut = std::min(txb, tyb);
-                if (tOut > t && cannotRaise(blockMax(lv, bi, bj), t, std::min(tOut, tEnd))) {
+                if (tOut > t && cannotRaise(reader.blockMaxM(lv, bi, bj), t, std::min(tOut, tEnd))) {
                     skip = true;
                     // The cell the line is in just past the block: across the side it leaves by, and along the
                     // other axis the one whose stretch holds tOut (from the same exit parameters as a cell step).
@@ -274,8 +315,8 @@ double walkHorizon(const HeightGrid& g, double x0, double y0, double z0, bool on
             const int64_t vi = du > 0.0 ? ci + 1 : ci, vj = dv > 0.0 ? cj + 1 : cj;
             bool onSurface = false;
             for (int64_t b = vj - 1; b <= vj && !onSurface; ++b)
-                for (int64_t a = vi - 1; a <= vi && !onSurface; ++a) onSurface = inGrid(a, b) && g.cellValid(a, b);
-            if (onSurface) walk.consider(tNext, g.at(vi, vj));
+                for (int64_t a = vi - 1; a <= vi && !onSurface; ++a) onSurface = inGrid(a, b) && reader.cellValid(a, b);
+            if (onSurface) walk.consider(tNext, reader.at(vi, vj));
         }
         if (stopAbove && walk.best() > floor) break;
         if (tx <= ty) ci += stepI;
@@ -288,6 +329,20 @@ double walkHorizon(const HeightGrid& g, double x0, double y0, double z0, bool on
     }
     if (distanceM) *distanceM = walk.bestDistance();
     return walk.best();
+}
+
+// The walk behind horizonTangent and horizonAbove, through the reader of the grid's kind.
+double walkHorizon(const HeightGrid& g, double x0, double y0, double z0, bool onSurface, double dirX, double dirY,
+                   CellMethod method, const HorizonSearch& search, HorizonCounters* counters, double floor,
+                   bool stopAbove, double hintM = 0.0, double* distanceM = nullptr) {
+    if (g.tiled()) {
+        TiledGridReader reader{g};
+        return walkOver(g, reader, x0, y0, z0, onSurface, dirX, dirY, method, search, counters, floor, stopAbove,
+                        hintM, distanceM);
+    }
+    WholeGridReader reader{g};
+    return walkOver(g, reader, x0, y0, z0, onSurface, dirX, dirY, method, search, counters, floor, stopAbove, hintM,
+                    distanceM);
 }
 
 }  // namespace

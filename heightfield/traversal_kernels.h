@@ -616,7 +616,7 @@ bool withMethod(const HeightGrid& g, CellMethod method, F&& f) {
     auto storage = [&]<class Real, Shape shape>() {
 #if TERRACAST_TILED_KERNELS
         return f.template operator()<Real, shape>(
-            TiledHeights{g.tileSource(), g.pyramidView(), g.tileLevels(), g.cellsX(), g.cellsY()});
+            TiledHeights{&g, g.pyramidView(), g.tileLevels(), g.cellsX(), g.cellsY()});
 #else
         if (const float* h = g.float32Heights())
             return f.template operator()<Real, shape>(Float32Heights{h, g.width()});

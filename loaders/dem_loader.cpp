@@ -48,6 +48,8 @@ constexpr double kBytesPerVertex = sizeof(float) + 2 * sizeof(uint8_t) + sizeof(
 // Heights farther than this from sea level (1000 km; the Earth's relief spans 20 km) are refused as a wrong
 // unit, scale or undeclared nodata: tracing them would lose all float precision on real terrain.
 constexpr double kMaxAbsHeightM = 1.0e6;
+// The largest window (in samples) whose read buffer a thread keeps for the next read: a tile and its edges.
+constexpr size_t kReusedSamples = size_t{1} << 17;
 // Cell sizes outside this range come from a broken geotransform or unit: the extent of the grid would
 // overflow, or its cells vanish, in the float arithmetic of tracing.
 constexpr double kMinCellSizeM = 1.0e-6;
@@ -384,8 +386,13 @@ struct DemWindowReader::Impl {
         // south (or east to west).
         const int64_t column0 = lattice.flipColumns ? width - i0 - w : i0;
         const int64_t row0 = lattice.flipRows ? height - j0 - h : j0;
-        // As float64, so that every integer and float32 type converts exactly.
-        std::vector<double> raw(static_cast<size_t>(w * h));
+        // As float64, so that every integer and float32 type converts exactly. A tile-sized window reuses this
+        // thread's buffer: tiled grids read thousands of them, and a fresh one each time costs page faults.
+        const auto samples = static_cast<size_t>(w * h);
+        thread_local std::vector<double> reused;
+        std::vector<double> own;
+        std::vector<double>& raw = samples <= kReusedSamples ? reused : own;
+        if (raw.size() < samples) raw.resize(samples);
         {
             std::lock_guard lock(readMutex);
             QuietGdalErrors quiet;

@@ -44,8 +44,11 @@ std::shared_ptr<const HeightTile> TiledDem::readTile(int64_t key) const {
     const int64_t ti = key % layout_.tilesX(), tj = key / layout_.tilesX();
     const int64_t x0 = layout_.firstVertexX(ti), y0 = layout_.firstVertexY(tj);
     const int64_t w = layout_.verticesX(ti), h = layout_.verticesY(tj);
-    std::vector<float> heights(static_cast<size_t>(w * h));
-    std::vector<uint8_t> valid(heights.size());
+    // This thread's buffers, kept from its last tile (a fresh pair each time costs page faults).
+    thread_local std::vector<float> heights;
+    thread_local std::vector<uint8_t> valid;
+    heights.resize(static_cast<size_t>(w * h));
+    valid.resize(heights.size());
     reader_->read(x0, y0, w, h, heights.data(), valid.data());
     try {
         return std::make_shared<const HeightTile>(summary_, x0, y0, w, h, heights.data(), valid.data());
