@@ -69,9 +69,15 @@ struct ArgsResult : CommandResult {
     double peakBytes = 0.0;  // the child's peak resident memory (getrusage's ru_maxrss)
 };
 
-// True when process `pid` has a handler installed for `sig` (its SigCgt mask in /proc).
+// True when process `pid` runs the executable and has installed a handler for `sig` (its SigCgt mask in /proc).
+// Until the exec, the child is a copy of this test process, whose handlers (Catch's, for SIGINT among others)
+// the exec then resets.
 inline bool catchesSignal(pid_t pid, int sig) {
-    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+    std::error_code ec;
+    const std::string proc = "/proc/" + std::to_string(pid);
+    if (std::filesystem::read_symlink(proc + "/exe", ec) != std::filesystem::canonical(TERRACAST_CLI_PATH, ec) || ec)
+        return false;
+    std::ifstream status(proc + "/status");
     std::string line;
     while (std::getline(status, line))
         if (line.rfind("SigCgt:", 0) == 0) return (std::stoull(line.substr(7), nullptr, 16) >> (sig - 1)) & 1u;
