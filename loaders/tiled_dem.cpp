@@ -3,6 +3,7 @@
 #include "tracer/core/errors.h"
 
 #include <fmt/format.h>
+#include <gdal.h>
 
 #include <algorithm>
 #include <vector>
@@ -11,6 +12,7 @@ namespace terracast {
 
 TiledDem::TiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options)
     : reader_(std::make_unique<DemWindowReader>(path, options)) {
+    if (GDALGetCacheMax64() > kSourceBlockCacheBytes) GDALSetCacheMax64(kSourceBlockCacheBytes);
     const int64_t width = reader_->width(), height = reader_->height();
     layout_ = TileLayout{width, height};
     // One pass, a band of rows at a time (about 16 MiB of heights and flags at most).

@@ -17,6 +17,11 @@ namespace terracast {
 
 class TiledDem : public TileSource {
 public:
+    // GDAL keeps the source blocks it decodes in a cache of its own, by default 5 % of the machine's memory:
+    // enough to hold a DEM read once through it, whatever the tile cache's bound. Opening a DEM as tiles lowers
+    // that cache (for the whole process) to this.
+    static constexpr int64_t kSourceBlockCacheBytes = int64_t{16} << 20;
+
     // Opens `path` and streams it once; throws InputError as loadDem does (but never for the raster's size).
     TiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options = {});
 

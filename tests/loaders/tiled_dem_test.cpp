@@ -6,6 +6,7 @@
 #include "tracer/core/errors.h"
 
 #include <catch2/catch.hpp>
+#include <gdal.h>
 
 #include <bit>
 #include <cmath>
@@ -105,4 +106,23 @@ TEST_CASE("Tiled DEM: rays through a grid of tiles read on demand hit as through
         if (TileLayout{a.width(), a.height()}.tileCount() > 2) CHECK(stats.evictions > 0);
         CHECK(stats.peakBytes <= 2 * tileBytes);
     }
+}
+
+TEST_CASE("Tiled DEM: GDAL's own cache of decoded blocks is held to its bound while a DEM is read as tiles",
+          "[loaders][tiles]") {
+    // GDAL's default (5 % of the machine's memory) would let it keep every block of a DEM read once.
+    const int64_t saved = GDALGetCacheMax64();
+    GDALSetCacheMax64(int64_t{1} << 30);
+    {
+        const TiledDem tiled(sample("N44W072.srtm3-white-mountains-nh.hgt"), 1 << 20);
+        CHECK(GDALGetCacheMax64() == TiledDem::kSourceBlockCacheBytes);
+        for (int64_t tj = 0; tj < tiled.layout().tilesY(); ++tj)
+            for (int64_t ti = 0; ti < tiled.layout().tilesX(); ++ti) CHECK(tiled.tile(ti, tj));
+        CHECK(GDALGetCacheUsed64() <= TiledDem::kSourceBlockCacheBytes);
+    }
+    // A lower bound someone set is kept.
+    GDALSetCacheMax64(int64_t{4} << 20);
+    { const TiledDem tiled(sample("N44W072.srtm3-white-mountains-nh.hgt"), 1 << 20); }
+    CHECK(GDALGetCacheMax64() == int64_t{4} << 20);
+    GDALSetCacheMax64(saved);
 }

@@ -46,12 +46,14 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
         }
     };
 
-    if (ranks::size() == 1) {
+    if (ranks::size() == 1 && !grid.tiled()) {
         parallelForTiles(s.width, s.height, s.tileSize, s.threads, renderTile);
     } else {
         // The ranks of an MPI launch (docs/architecture.md, "Ranks") draw blocks of 4 x 4 work tiles from a shared
         // count and render them into films of the whole picture, black elsewhere; the leader's film becomes the sum,
         // which is every pixel exactly as one process renders it (each pixel is rendered once, and x + 0 = x).
+        // A single process renders a DEM held as tiles this way too: its threads share one block at a time, in
+        // picture order, so that they read the same DEM tiles rather than those of two far parts of the picture.
         const int block = 4 * std::max(s.tileSize, 1);
         const int blocksX = (s.width + block - 1) / block, blocksY = (s.height + block - 1) / block;
         ranks::resetTasks();
