@@ -3,7 +3,8 @@
 # against the whole grid in memory) for a shadow map and a render, and the parallel efficiency of 2 MPI ranks
 # against 1 for the same jobs. Not part of CI (minutes of work):
 #   scripts/scale_bench.sh [TERRACAST] [SIZE]
-# The DEM: the Puget Sound height map resampled to SIZE x SIZE vertices (default 8193) as a tiled, DEFLATE
+# The DEM: the Puget Sound height map resampled to SIZE x SIZE vertices (default 8193), its 16-bit codes mapped
+# to 0 to 4392 m (Mount Rainier's height), as a tiled, DEFLATE
 # GeoTIFF in UTM metres (30 m cells), made once in a temporary folder. Times are whole processes (load, trace,
 # write); ratios are taken between runs made one after the other on the same machine.
 set -eu
@@ -14,7 +15,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 dem=$work/dem.tif
 extent=$(( (size - 1) * 30 ))
-gdal_translate -q -ot Int16 -outsize "$size" "$size" -r bilinear -a_srs EPSG:32610 \
+gdal_translate -q -ot Int16 -scale 0 65535 0 4392 -outsize "$size" "$size" -r bilinear -a_srs EPSG:32610 \
   -a_ullr 500000 $((5000000 + extent)) $((500000 + extent)) 5000000 -co TILED=YES -co COMPRESS=DEFLATE \
   "$here/data-samples/puget-sound-usgs-1025x1025-16bit-heightmap.png" "$dem"
 # The whole grid's bytes, from `info`, and a cache of an eighth of them.
