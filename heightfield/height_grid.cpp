@@ -358,12 +358,12 @@ TileSource::TileSource() {
     serial_ = next++;
 }
 
-// Single-value reads (at, vertexValid, cellValid, the tile levels' block bounds) on neighbouring vertices mostly
-// stay in one tile: a per-thread memo of the last tile spares them the source's lookup and the shared pointer's
-// reference counting. It holds that one tile per thread beyond the cache's budget.
+// Every read of a tiled grid (single values, and the walks' readers through tileOfCell) mostly stays in a few
+// neighbouring tiles: a per-thread memo of four tiles, one for each parity of the tile's column and row, spares
+// them the source's lookup and the shared pointer's reference counting; a walk along a tile border, or a run of
+// walks from one tile that end in its neighbours, asks the source only when it first meets a tile. It holds
+// those four tiles per thread beyond the cache's budget.
 const HeightTile& HeightGrid::memoTile(int64_t ti, int64_t tj) const {
-    // Four tiles per thread, one for each parity of the tile's column and row: a walk along a tile border, or a
-    // run of walks from one tile that end in its neighbours, asks the source only when it first meets a tile.
     struct Memo {
         uint64_t source = 0;
         int64_t ti = -1, tj = -1;

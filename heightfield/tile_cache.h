@@ -2,7 +2,8 @@
 // grid too large for memory (docs/architecture.md, "Tiled grids"). Tiles are loaded on demand by a callback,
 // outside the cache's lock, and handed out as shared pointers: a tile evicted while a ray still reads it stays
 // alive until that ray lets go, so the bound holds for the cache's own tiles and is exceeded at most by the
-// tiles the threads hold (the four each remembers as its most recent, and the one or two a ray reads).
+// tiles the threads hold (the four each remembers here as its most recent, and the four of the grid's per-thread
+// memo, which walks read through).
 #pragma once
 
 #include <algorithm>
