@@ -1,6 +1,7 @@
 // The command line: exit codes, one-line errors, and the outputs of info and render.
 #include "loaders/image_io.h"
 #include "support/run_command.h"
+#include "support/sanitizers.h"
 
 #include <catch2/catch.hpp>
 
@@ -172,7 +173,9 @@ TEST_CASE("CLI: an interrupted render exits promptly, says so and leaves no file
     REQUIRE(std::system(script.c_str()) == 0);  // std::system runs it with sh -c
     CHECK(std::stoi(slurp(dir / "rc.txt")) == 130);
     CHECK(slurp(dir / "err.txt").find("interrupted") != std::string::npos);
-    CHECK(std::stoi(slurp(dir / "ms.txt")) < 3000);  // from the signal to the exit
+    // From the signal to the exit: the work stops at the next 32-pixel tile of a render that has minutes left;
+    // the exit itself (and, under the sanitizers, their check for leaks) takes a second or two on a busy machine.
+    CHECK(std::stoi(slurp(dir / "ms.txt")) < (terracast::testing::kSanitizedBuild ? 8000 : 3000));
     CHECK_FALSE(fs::exists(out));
     int files = 0;
     for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++files;
