@@ -69,14 +69,13 @@ struct ArgsResult : CommandResult {
     double peakBytes = 0.0;  // the child's peak resident memory (getrusage's ru_maxrss)
 };
 
-// True when process `pid` runs the executable and has installed a handler for `sig` (its SigCgt mask in /proc).
-// Until the exec, the child is a copy of this test process, whose handlers (Catch's, for SIGINT among others)
-// the exec then resets.
-inline bool catchesSignal(pid_t pid, int sig) {
+// True when process `pid` runs `exe` (a canonical path) and has installed a handler for `sig` (its SigCgt mask
+// in /proc). Until the exec, the child is a copy of this test process, whose handlers (Catch's, for SIGINT among
+// others) the exec then resets.
+inline bool catchesSignal(pid_t pid, const std::filesystem::path& exe, int sig) {
     std::error_code ec;
     const std::string proc = "/proc/" + std::to_string(pid);
-    if (std::filesystem::read_symlink(proc + "/exe", ec) != std::filesystem::canonical(TERRACAST_CLI_PATH, ec) || ec)
-        return false;
+    if (std::filesystem::read_symlink(proc + "/exe", ec) != exe || ec) return false;
     std::ifstream status(proc + "/status");
     std::string line;
     while (std::getline(status, line))
@@ -118,12 +117,15 @@ inline ArgsResult runTerracastArgs(const std::vector<std::string>& args, const R
     int status = 0;
     bool signalled = false;
     double caughtAt = -1.0, signalledAt = 0.0;  // when the child was first seen catching the signal; sent it
+    std::error_code exeError;
+    const fs::path exePath = fs::canonical(TERRACAST_CLI_PATH, exeError);
     struct rusage usage {};
     for (;;) {
         const pid_t done = ::wait4(pid, &status, WNOHANG, &usage);
         if (done == pid) break;
         const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        if (settings.interruptAfterS >= 0.0 && caughtAt < 0.0 && catchesSignal(pid, settings.signal)) caughtAt = elapsed;
+        if (settings.interruptAfterS >= 0.0 && caughtAt < 0.0 && catchesSignal(pid, exePath, settings.signal))
+            caughtAt = elapsed;
         std::error_code ec;
         if (!signalled && ((caughtAt >= 0.0 && elapsed >= caughtAt + settings.interruptAfterS) ||
                            (!settings.interruptWhenExists.empty() && fs::exists(settings.interruptWhenExists, ec)))) {
