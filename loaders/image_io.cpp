@@ -1,8 +1,10 @@
-// Writing and reading pictures through the image codec module (OpenImageIO). PNG holds 8-bit sRGB (transfer
-// function of IEC 61966-2-1); EXR holds linear half floats.
+// Writing and reading pictures. PNG holds 8-bit sRGB (transfer function of IEC 61966-2-1) and is written by the
+// loaders' own PNG encoder (libspng); EXR holds linear half floats and, like every read, goes through the image
+// codec module (OpenImageIO).
 #include "loaders/loader_support.h"
 #include "loaders/image_codec.h"
 #include "loaders/image_io.h"
+#include "loaders/png_encoder.h"
 
 #include "tracer/core/errors.h"
 
@@ -125,7 +127,9 @@ void writeFileAtomically(const std::string& path, std::string_view bytes) {
 
 void writeTextFile(const std::string& path, const std::string& text) { writeFileAtomically(path, text); }
 
-void loadImageCodec() { image_codec::api(); }
+void prepareImageWriter(const std::string& path) {
+    if (lowerExtension(path) == ".exr") image_codec::api();
+}
 
 namespace {
 
@@ -159,8 +163,7 @@ void writeImage(const std::string& path, const RgbImage& image) {
         std::vector<uint8_t> levels(image.rgb.size());
         for (size_t k = 0; k < levels.size(); ++k)
             levels[k] = static_cast<uint8_t>(std::lround(srgbFromLinear(image.rgb[k]) * 255.0f));
-        bytes = encodeInMemory(path, image.width, image.height, 3, PixelType::UInt8, "sRGB", PixelType::UInt8,
-                               levels.data());
+        bytes = png::encode(path, image.width, image.height, png::Layout::SrgbRgb8, levels.data());
     } else {
         bytes = encodeInMemory(path, image.width, image.height, 3, PixelType::Half, "Linear", PixelType::Float,
                                image.rgb.data());
@@ -172,8 +175,7 @@ std::string encodeGreyPng16(const std::string& name, int width, int height, cons
     if (width <= 0 || height <= 0 || samples.size() != size_t(width) * size_t(height))
         throw std::invalid_argument(fmt::format("encodeGreyPng16: {} x {} image holds {} samples", width, height,
                                                 samples.size()));
-    using image_codec::PixelType;
-    return encodeInMemory(name, width, height, 1, PixelType::UInt16, "", PixelType::UInt16, samples.data());
+    return png::encode(name, width, height, png::Layout::Grey16, samples.data());
 }
 
 RgbImage readImage(const std::string& path) {

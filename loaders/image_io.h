@@ -1,4 +1,5 @@
-// Writing and reading pictures through OpenImageIO, and writing small text outputs, always atomically.
+// Writing and reading pictures (PNG written by libspng; EXR and every read through the image codec module,
+// OpenImageIO), and writing small text outputs, always atomically.
 #pragma once
 
 #include <cstdint>
@@ -24,7 +25,7 @@ struct RgbImage {
 void writeImage(const std::string& path, const RgbImage& image);
 
 // The bytes of a 16-bit greyscale PNG of width x height samples (row-major, top row first), encoded in memory;
-// `name` (ending in .png) picks the encoder and names the image in errors.
+// `name` names the image in errors.
 std::string encodeGreyPng16(const std::string& name, int width, int height, const std::vector<uint16_t>& samples);
 
 // Writes `text` to `path` through a temporary file in the same folder and a rename. Throws InputError for a
@@ -35,9 +36,10 @@ void writeTextFile(const std::string& path, const std::string& text);
 // names a device or pipe (written in place). Throws InputError naming the path otherwise.
 void checkCanWrite(const std::string& path);
 
-// Loads the image codec module now (it is otherwise loaded on first use), so that the memory it takes is
-// counted by a memory check made before a picture is written. Throws std::runtime_error when it cannot load.
-void loadImageCodec();
+// Loads now whatever writing a picture to `path` will need (the image codec module for EXR; nothing for PNG), so
+// that the memory it takes is counted by a memory check made before the picture is written. Throws
+// std::runtime_error when the module cannot load.
+void prepareImageWriter(const std::string& path);
 
 // Writes `bytes` to `path` through a temporary file in the same folder and a rename; a device or pipe (such
 // as /dev/null) is written in place. Throws InputError for a missing or unwritable folder, std::runtime_error

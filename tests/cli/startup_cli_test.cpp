@@ -1,5 +1,5 @@
 // Start-up: the executable does not load OpenImageIO; the image codec module is opened only when a PNG or EXR is
-// read or written, and a missing module is one clear line.
+// read or an EXR written (PNGs are written by libspng, linked in), and a missing module is one clear line.
 #include "support/run_command.h"
 #include "support/sanitizers.h"
 
@@ -50,12 +50,16 @@ TEST_CASE("CLI: the executable does not link OpenImageIO and opens the image cod
         std::string(TERRACAST_SOURCE_DIR) + "/data-samples/landfire-storm-lake-mt-utm12n-int16-small-nodata.tif";
     const std::string png = std::string(TERRACAST_SOURCE_DIR) + "/data-samples/puget-sound-usgs-1025x1025-16bit-heightmap.png";
     const ScopedEnv missing("TERRACAST_IMAGE_CODEC", (dir / "no-such-codec.so").string());
-    // GeoTIFF in, GeoTIFF out: the module is never looked for.
+    // GeoTIFF in, GeoTIFF or PNG out: the module is never looked for.
     const auto maps = runTerracast("horizon '" + dem + "' --azimuth 90 -o '" + (dir / "h.tif").string() + "'");
     INFO(maps.err);
     CHECK(maps.exitCode == 0);
-    // A PNG out, or a PNG height map in: one line naming the module, no output file.
-    for (const std::string& args : {"render '" + dem + "' --size 32x18 -o '" + (dir / "v.png").string() + "'",
+    const auto picture = runTerracast("render '" + dem + "' --size 32x18 -o '" + (dir / "p.png").string() + "'");
+    INFO(picture.err);
+    CHECK(picture.exitCode == 0);
+    CHECK(fs::file_size(dir / "p.png") > 0);
+    // An EXR out, or a PNG height map in: one line naming the module, no output file.
+    for (const std::string& args : {"render '" + dem + "' --size 32x18 -o '" + (dir / "v.exr").string() + "'",
                                     "horizon '" + png + "' --azimuth 90 -o '" + (dir / "w.tif").string() + "'"}) {
         const auto r = runTerracast(args);
         INFO(args << "\n" << r.err);
@@ -69,6 +73,6 @@ TEST_CASE("CLI: the executable does not link OpenImageIO and opens the image cod
         CHECK(r.err.find("TERRACAST_IMAGE_CODEC to its path\n") != std::string::npos);  // the line ends there
     }
     CHECK(!fs::exists(dir / "w.tif"));
-    CHECK(!fs::exists(dir / "v.png"));
+    CHECK(!fs::exists(dir / "v.exr"));
     fs::remove_all(dir);
 }

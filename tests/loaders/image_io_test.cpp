@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <unistd.h>
 #include <vector>
@@ -92,6 +94,12 @@ TEST_CASE("PNG stores rounded sRGB levels and clamps out-of-range values", "[loa
     REQUIRE(channels == 3);
     // Linear 0.5 encodes to sRGB 0.7354, level 187.5 -> 188; linear 0.002 stays in the linear toe: 0.0258 -> 7.
     CHECK(std::vector<int>(bytes.begin(), bytes.end()) == std::vector<int>{188, 0, 255, 255, 0, 7});
+    // The file says what its levels are: it holds an sRGB chunk (PNG 1.2, section 4.2.2.3), before the image data.
+    std::ifstream file(path, std::ios::binary);
+    const std::string png((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    const size_t srgb = png.find("sRGB"), data = png.find("IDAT");
+    CHECK(srgb != std::string::npos);
+    CHECK(srgb < data);
 }
 
 TEST_CASE("EXR round trip keeps linear values, including values above 1, to half precision", "[loaders]") {

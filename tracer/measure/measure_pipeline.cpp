@@ -72,7 +72,6 @@ void runCompareReport(const CompareRunOptions& o, const RunListener& listener) {
         double embree = 0.0;
         for (SurfaceMethod m : cs.methods) embree = std::max(embree, embreeBytesEstimate(m, dem.grid));
         const double pixels = double(o.width) * o.height;
-        if (!o.outDir.empty()) loadImageCodec();
         checkMemory(o.dem.path, o.dem.maxMemoryBytes, dem.grid,
                     pixels * (20.0 * double(cs.methods.size() + 1) + 120.0) + embree,
                     fmt::format("comparing {} methods at {}x{}", cs.methods.size(), o.width, o.height));

@@ -98,7 +98,7 @@ void renderSceneFile(const SceneRunOptions& o, const RunListener& listener) {
             embreeBytes += embreeBytesEstimate(d.objects[k].method, *loaded.assets.grids[g++]);
     // What the process holds now (libraries, the loaded assets), Embree's scenes, the film and the picture's
     // encoding.
-    if (writesImage) loadImageCodec();
+    if (writesImage) prepareImageWriter(r.output);
     const double held = currentResidentBytes();
     const double need = held + embreeBytes + double(r.width) * r.height * (kFilmBytesPerPixel + kEncodeBytesPerPixel);
     if (need > limit)

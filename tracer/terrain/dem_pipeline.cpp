@@ -164,7 +164,7 @@ void renderMap(const DemRenderOptions& o, const RunListener& listener) {
         // bands; the output size follows renderMapView's (scale times the DEM's vertices).
         const double pixels = std::ceil(double(dem.grid.width()) * o.scale) * std::ceil(double(dem.grid.height()) * o.scale);
         const bool png = lowerExtension(o.output) == ".png";
-        if (png) loadImageCodec();
+        if (png) prepareImageWriter(o.output);
         checkMemory(o.dem.path, o.dem.maxMemoryBytes, dem.grid,
                     pixels * (kFilmBytesPerPixel + 1.0 + (png ? kFilmBytesPerPixel + kEncodeBytesPerPixel : 17.0)),
                     fmt::format("the map view at scale {:g}", o.scale));
@@ -230,7 +230,7 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     s.seed = o.seed;
     s.progress = progressWithTiles(listener, grid);
 
-    loadImageCodec();
+    prepareImageWriter(o.output);
     checkMemory(o.dem.path, o.dem.maxMemoryBytes, grid,
                 double(o.width) * o.height * (kFilmBytesPerPixel + kEncodeBytesPerPixel) + embreeBytesEstimate(o.method, grid),
                 fmt::format("rendering {}x{} with {}", o.width, o.height, surfaceMethodName(o.method)));
