@@ -4,6 +4,7 @@
 #include "tracer/core/text.h"
 
 #include "tracer/core/cancel.h"
+#include "tracer/core/huge_pages.h"
 #include "tracer/core/ranks.h"
 
 #include <CLI/CLI.hpp>
@@ -29,6 +30,7 @@ extern "C" void onInterrupt(int) {
 
 int main(int argc, char** argv) {
     cancelFlag().store(false);  // made before the handlers, so a signal never initialises it
+    useHugePagesForLargeBuffers();
     std::signal(SIGINT, onInterrupt);
     std::signal(SIGTERM, onInterrupt);
     CLI::App app{"terracast: ray tracing of terrain height fields, exact or triangulated"};

@@ -2,6 +2,7 @@
 
 #include "heightfield/grid_summary.h"
 #include "heightfield/height_tile.h"
+#include "heightfield/large_buffer.h"
 
 #include <algorithm>
 #include <array>
@@ -176,7 +177,7 @@ bool HeightGrid::tryInt16(double s) {
             }
     });
     if (!lossless.load()) return false;
-    std::vector<int16_t> codes(n);
+    std::vector<int16_t> codes = largeVector<int16_t>(n);
     parallelRanges(int64_t(n), 1, [&](int64_t k0, int64_t k1) {
         for (int64_t k = k0; k < k1; ++k) {
             int32_t code = kLowestCode;
@@ -197,7 +198,7 @@ std::vector<float> HeightGrid::copyHeights() const {
         throw GridError("this needs the whole DEM in memory, and it is held as tiles (it does not fit in "
                         "--max-memory, or --tile-cache asked for tiles)");
     if (storage_ == HeightStorage::Float32) return heightsM_;
-    std::vector<float> out(codes_.size());
+    std::vector<float> out = largeVector<float>(codes_.size());
     parallelRanges(int64_t(codes_.size()), 1, [&](int64_t k0, int64_t k1) {
         for (int64_t k = k0; k < k1; ++k) out[size_t(k)] = decode(codes_[size_t(k)]);
     });
@@ -478,7 +479,7 @@ int16_t PyramidCoding::encodeDown(float z) const {
 std::vector<int16_t> pyramidParentLevel(const std::vector<int16_t>& level, int64_t px, int64_t py, bool highest) {
     const int64_t bx = (px + 1) / 2, by = (py + 1) / 2;
     const int16_t none = highest ? PyramidCoding::kNoMax : PyramidCoding::kNoMin;
-    std::vector<int16_t> next(static_cast<size_t>(bx * by));
+    std::vector<int16_t> next = largeVector<int16_t>(static_cast<size_t>(bx * by));
     // Codes order as heights do, so the extreme code is the bound.
     parallelRanges(by, 4 * bx, [&](int64_t b0, int64_t b1) {
         for (int64_t bj = b0; bj < b1; ++bj)

@@ -6,6 +6,7 @@
 // metres on the tangent plane at their centre latitude, using the WGS84 meridional and prime-vertical radii
 // of curvature (Snyder 1987, "Map Projections: A Working Manual", USGS Professional Paper 1395).
 #include "loaders/loader_support.h"
+#include "heightfield/large_buffer.h"
 
 #include "tracer/core/angles.h"
 #include "tracer/core/resources.h"
@@ -459,9 +460,9 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, c
     dem.warnings = reader.warnings;
     const int64_t width = reader.width, height = reader.height;
     const auto vertexCount = static_cast<size_t>(width * height);
-    std::vector<float> heightsM(vertexCount);
+    std::vector<float> heightsM = largeVector<float>(vertexCount);
     std::vector<uint8_t> valid;
-    if (reader.hasNodata) valid.assign(vertexCount, 1);
+    if (reader.hasNodata) valid = largeVector<uint8_t>(vertexCount, 1);
     // From the raster's first rows on (the grid's last), so that a bad height is reported at the first raster row
     // that holds one.
     const int64_t rowsPerBand = std::max<int64_t>(1, (int64_t{1} << 21) / width);
@@ -581,7 +582,7 @@ LoadedDem loadWithImageInput(const std::string& path, const DemLoadOptions& opti
         dem.warnings.push_back(fmt::format("{}: {} channels, using channel 0 as height", path, spec.channels));
 
     const auto vertexCount = static_cast<size_t>(width * height);
-    std::vector<float> heightsM(vertexCount);
+    std::vector<float> heightsM = largeVector<float>(vertexCount);
     // Image row 0 is the north edge; grid row 0 is the south edge.
     auto store = [&](const auto& samples) {
         for (int64_t row = 0; row < height; ++row) {

@@ -27,13 +27,14 @@ sed 's/[],[*~\\"]/\\&/g' "$work/names" | awk -v n="$shards" -v dir="$work" \
   '{ print > (dir "/shard-" ((NR - 1) % n) ".txt") }'
 
 # One shard: its test cases in one process, from the build folder (as CTest runs them); a line per shard, and
-# its whole output when it fails.
+# its whole output when it fails. Catch reports each test case's seconds (-d yes), so that the slowest can be
+# listed at the end.
 cat >"$work/run-shard" <<'EOF'
 #!/bin/sh
 list=$1 runner=$2 build=$3
 log=${list%.txt}.log
 start=$(date +%s)
-if (cd "$build" && "$runner" -f "$list") >"$log" 2>&1; then
+if (cd "$build" && "$runner" -d yes -f "$list") >"$log" 2>&1; then
   echo "shard $(basename "$list" .txt): $(wc -l <"$list") test cases passed in $(( $(date +%s) - start )) s"
 else
   echo "shard $(basename "$list" .txt) FAILED after $(( $(date +%s) - start )) s:"
@@ -44,7 +45,9 @@ EOF
 chmod +x "$work/run-shard"
 start=$(date +%s)
 if ls "$work"/shard-*.txt | xargs -P "$jobs" -I{} "$work/run-shard" {} "$runner" "$build"; then
-  echo "sharded_tests.sh: $total test cases in $shards shards passed in $(( $(date +%s) - start )) s"
+  echo "sharded_tests.sh: $total test cases in $shards shards passed in $(( $(date +%s) - start )) s; the slowest:"
+  # Catch's duration lines read "<seconds> s: <test case name>".
+  cat "$work"/shard-*.log | grep -E '^[0-9]+\.[0-9]+ s: ' | sort -rn | head -12 | sed 's/^/  /'
 else
   echo "sharded_tests.sh: a shard failed (its output is above)" >&2
   exit 1
