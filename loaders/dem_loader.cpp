@@ -18,6 +18,7 @@
 
 #include "tracer/core/cancel.h"
 #include "tracer/core/errors.h"
+#include "tracer/core/ranks.h"
 
 #include <cpl_error.h>
 #include <cpl_vsi.h>
@@ -27,6 +28,8 @@
 #include <ogr_spatialref.h>
 
 #include <algorithm>
+#include <optional>
+#include <utility>
 #include <atomic>
 #include <cctype>
 #include <cmath>
@@ -447,10 +450,41 @@ void DemWindowReader::read(int64_t i0, int64_t j0, int64_t w, int64_t h, float* 
 
 namespace {
 
+// The raster rows [first, end) that rank `part` of `parts` reads in a load shared by the ranks: equal bands,
+// their bounds rounded to 256 rows (a whole number of the storage blocks of common tiled GeoTIFFs, so that no
+// block is decoded by two ranks).
+std::pair<int64_t, int64_t> sharedRows(int64_t height, int part, int parts) {
+    const auto bound = [&](int q) {
+        if (q >= parts) return height;
+        return std::min(height, (height * q / parts + 255) / 256 * 256);
+    };
+    return {bound(part), bound(part + 1)};
+}
+
 // Loads band 1 of any raster GDAL can open, a band of rows at a time. Messages name `path`; GDAL opens
-// `openPath` when one is given.
+// `openPath` when one is given. In a load shared by the ranks, each rank reads its part of the rows and the
+// ranks exchange them, so that every rank ends with the whole grid.
 LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, const std::string& openPath = {}) {
-    const DemWindowReader::Impl reader(path, options, true, openPath);
+    const bool shared = options.sharedByRanks && ranks::size() > 1;
+    std::optional<DemWindowReader::Impl> opened;
+    std::optional<RasterTooLarge> tooLarge;
+    try {
+        opened.emplace(path, options, true, openPath);
+    } catch (const RasterTooLarge& e) {
+        if (!shared) throw;
+        tooLarge = e;
+    }
+    if (shared) {
+        // What one rank's memory cannot hold, every rank holds as tiles: the ranks must take the same path.
+        int64_t shortOfMemory = tooLarge ? 1 : 0;
+        ranks::sum(&shortOfMemory, 1);
+        if (tooLarge) throw *tooLarge;
+        if (shortOfMemory > 0) {
+            const double limit = memoryLimitBytes(options.maxBytes);
+            throw RasterTooLarge(path + ": another rank cannot hold the raster whole", currentResidentBytes(), limit);
+        }
+    }
+    const DemWindowReader::Impl& reader = *opened;
     LoadedDem dem;
     dem.path = path;
     dem.driver = reader.driver;
@@ -463,14 +497,26 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, c
     std::vector<float> heightsM = largeVector<float>(vertexCount);
     std::vector<uint8_t> valid;
     if (reader.hasNodata) valid = largeVector<uint8_t>(vertexCount, 1);
-    // From the raster's first rows on (the grid's last), so that a bad height is reported at the first raster row
+    // Raster row r is grid row height - 1 - r when the raster's rows run north to south (flipRows), else r.
+    const auto gridRows = [&](int64_t first, int64_t end) {
+        return reader.lattice.flipRows ? std::pair{height - end, height - first} : std::pair{first, end};
+    };
+    const int parts = shared ? ranks::size() : 1;
+    const auto [firstRow, endRow] = sharedRows(height, shared ? ranks::rank() : 0, parts);
+    // From the first raster row on (the grid's last), so that a bad height is reported at the first raster row
     // that holds one.
     const int64_t rowsPerBand = std::max<int64_t>(1, (int64_t{1} << 21) / width);
-    for (int64_t end = height; end > 0; end -= rowsPerBand) {
-        const int64_t rows = std::min(rowsPerBand, end);
-        const int64_t j0 = reader.lattice.flipRows ? end - rows : height - end;
+    for (int64_t r = firstRow; r < endRow; r += rowsPerBand) {
+        const auto [j0, j1] = gridRows(r, std::min(endRow, r + rowsPerBand));
         const auto offset = static_cast<size_t>(j0 * width);
-        reader.read(0, j0, width, rows, heightsM.data() + offset, valid.empty() ? nullptr : valid.data() + offset);
+        reader.read(0, j0, width, j1 - j0, heightsM.data() + offset, valid.empty() ? nullptr : valid.data() + offset);
+    }
+    for (int q = 0; shared && q < parts; ++q) {
+        const auto [first, end] = sharedRows(height, q, parts);
+        const auto [j0, j1] = gridRows(first, end);
+        const auto offset = static_cast<size_t>(j0 * width), count = static_cast<size_t>((j1 - j0) * width);
+        ranks::broadcast(heightsM.data() + offset, count * sizeof(float), q);
+        if (!valid.empty()) ranks::broadcast(valid.data() + offset, count, q);
     }
     dem.grid = makeGrid(path, width, height, reader.lattice.cellSizeXM, reader.lattice.cellSizeYM, std::move(heightsM),
                         std::move(valid), reader.metresPerRaw);

@@ -34,6 +34,10 @@ struct DemLoadOptions {
     // the process holds already, and otherwise as tiles read on demand with a cache of a quarter of the memory
     // left; above 0: as tiles, with a cache of this many bytes. PNG height maps are always held whole.
     double tileCacheBytes = 0.0;
+    // Under mpirun, a load that every rank makes together (collective): a DEM held whole is read a band of rows
+    // per rank and the bands are exchanged, and the ranks agree on holding it whole or as tiles. Off, each rank
+    // loads on its own.
+    bool sharedByRanks = false;
 };
 
 // A loaded DEM: plain data, no GDAL or OpenImageIO types.

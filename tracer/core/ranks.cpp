@@ -49,8 +49,8 @@ void barrier() {
     if (many()) api->barrier();
 }
 
-void broadcast(void* data, size_t bytes) {
-    if (many()) api->broadcast(data, bytes);
+void broadcast(void* data, size_t bytes, int root) {
+    if (many()) api->broadcast(data, bytes, root);
 }
 
 void sum(int64_t* values, size_t count) {

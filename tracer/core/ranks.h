@@ -24,8 +24,8 @@ inline bool leader() { return rank() == 0; }
 
 // Collective operations: every rank must call them, in the same order.
 void barrier();
-// The leader's `bytes` bytes at `data` on every rank.
-void broadcast(void* data, size_t bytes);
+// Rank `root`'s `bytes` bytes at `data` on every rank (the leader's by default).
+void broadcast(void* data, size_t bytes, int root = 0);
 // Sums `count` values over the ranks, in place on every rank.
 void sum(int64_t* values, size_t count);
 // Sums `count` floats over the ranks into the leader's array (the others' arrays are left as they were).

@@ -8,7 +8,7 @@ extern "C" {
 struct TerracastRanksApi {
     int (*init)(int* rank, int* size);  // 0 when MPI started
     void (*barrier)();
-    void (*broadcast)(void* data, size_t bytes);
+    void (*broadcast)(void* data, size_t bytes, int root);
     void (*sumInt64)(int64_t* values, size_t count);
     void (*sumFloatsToLeader)(float* values, size_t count);
     void (*resetTasks)();

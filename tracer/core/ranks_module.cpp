@@ -32,10 +32,10 @@ int init(int* rank, int* size) {
 
 void barrier() { MPI_Barrier(MPI_COMM_WORLD); }
 
-void broadcast(void* data, size_t bytes) {
+void broadcast(void* data, size_t bytes, int root) {
     for (size_t done = 0; done < bytes;) {
         const int chunk = int(bytes - done < (size_t(1) << 30) ? bytes - done : (size_t(1) << 30));
-        MPI_Bcast(static_cast<char*>(data) + done, chunk, MPI_BYTE, 0, MPI_COMM_WORLD);
+        MPI_Bcast(static_cast<char*>(data) + done, chunk, MPI_BYTE, root, MPI_COMM_WORLD);
         done += size_t(chunk);
     }
 }

@@ -28,6 +28,8 @@ LoadedDem loadDemSource(const DemSource& source, const RunListener& listener) {
     lo.imageCellSizeM = source.imageCellSizeM;
     lo.imageHeightScale = source.imageHeightScale;
     lo.tileCacheBytes = source.tileCacheBytes;
+    // Under mpirun every command that gets here runs on every rank (cli/main.cpp refuses the others).
+    lo.sharedByRanks = ranks::size() > 1;
     LoadedDem dem = loadDem(source.path, lo);
     for (const auto& w : dem.warnings) listener.warn(w);
     return dem;
