@@ -28,17 +28,17 @@
 #include <ogr_spatialref.h>
 
 #include <algorithm>
-#include <optional>
-#include <utility>
 #include <atomic>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
-#include <unistd.h>
 #include <fstream>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <string_view>
+#include <unistd.h>
+#include <utility>
 
 namespace terracast {
 namespace {
