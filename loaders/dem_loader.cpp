@@ -444,6 +444,18 @@ double DemWindowReader::metresPerUnit() const { return impl_->metresPerRaw; }
 bool DemWindowReader::hasNodata() const { return impl_->hasNodata; }
 const GeoReference& DemWindowReader::geo() const { return impl_->geo; }
 const std::vector<std::string>& DemWindowReader::warnings() const { return impl_->warnings; }
+std::vector<std::string> DemWindowReader::files() const {
+    std::vector<std::string> out;
+    char** list = impl_->dataset->GetFileList();
+    for (char** f = list; f && *f; ++f) out.emplace_back(*f);
+    CSLDestroy(list);
+    return out;
+}
+std::string DemWindowReader::decodingKey() const {
+    return fmt::format("{} {} {:.17g} {:.17g} {} {:.17g}", impl_->driver,
+                       GDALGetDataTypeName(impl_->band->GetRasterDataType()), impl_->metresPerRaw,
+                       impl_->metresOffset, impl_->hasNodata, impl_->nodata);
+}
 void DemWindowReader::read(int64_t i0, int64_t j0, int64_t w, int64_t h, float* heightsM, uint8_t* valid) const {
     impl_->read(i0, j0, w, h, heightsM, valid);
 }

@@ -83,6 +83,11 @@ public:
     bool hasNodata() const;         // the band declares a nodata value
     const GeoReference& geo() const;
     const std::vector<std::string>& warnings() const;
+    // The files GDAL reads for this raster (the file itself, a VRT's sources, sidecars such as .aux.xml); empty
+    // when GDAL does not say (an in-memory or network source).
+    std::vector<std::string> files() const;
+    // The decoding of stored values as text (band type, scale, offset, unit, nodata), for cache keys.
+    std::string decodingKey() const;
 
     // Vertices [i0, i0 + w) x [j0, j0 + h) of the grid (j northward), row-major from row j0: heights in metres
     // into `heightsM`, and into `valid` 1 per valid vertex and 0 per nodata one (whose height is then 0).

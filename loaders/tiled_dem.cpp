@@ -1,6 +1,8 @@
 #include "loaders/tiled_dem.h"
 
+#include "loaders/summary_sidecar.h"
 #include "tracer/core/errors.h"
+#include "tracer/core/ranks.h"
 
 #include <fmt/format.h>
 #include <gdal.h>
@@ -15,21 +17,32 @@ TiledDem::TiledDem(const std::string& path, size_t cacheBytes, const DemLoadOpti
     if (GDALGetCacheMax64() > kSourceBlockCacheBytes) GDALSetCacheMax64(kSourceBlockCacheBytes);
     const int64_t width = reader_->width(), height = reader_->height();
     layout_ = TileLayout{width, height};
-    // One pass, a band of rows at a time (about 16 MiB of heights and flags at most).
-    GridSummaryBuilder builder(width, height, reader_->metresPerUnit());
-    const int64_t rowsPerBand = std::clamp<int64_t>((int64_t{16} << 20) / (5 * width), 1, kTileCells);
-    std::vector<float> heights(static_cast<size_t>(rowsPerBand * width));
-    std::vector<uint8_t> valid(heights.size());
-    for (int64_t j0 = 0; j0 < height; j0 += rowsPerBand) {
-        const int64_t rows = std::min(rowsPerBand, height - j0);
-        reader_->read(0, j0, width, rows, heights.data(), valid.data());
-        try {
-            builder.addRows(j0, rows, heights.data(), valid.data());
-        } catch (const GridError& e) {
-            throw InputError(path + ": " + e.what());
+    // The summary from the sidecar when it describes the DEM as it is now, else from one pass over the raster,
+    // a band of rows at a time (about 16 MiB of heights and flags at most), saved for the next open. Under
+    // mpirun the leader saves it.
+    const std::string sidecar = summarySidecarPath(path), key = summaryKey(*reader_);
+    if (auto stored = readSummarySidecar(sidecar, key, width, height)) {
+        summary_ = std::move(*stored);
+        summaryOrigin_ = "read from " + sidecar;
+    } else {
+        GridSummaryBuilder builder(width, height, reader_->metresPerUnit());
+        const int64_t rowsPerBand = std::clamp<int64_t>((int64_t{16} << 20) / (5 * width), 1, kTileCells);
+        std::vector<float> heights(static_cast<size_t>(rowsPerBand * width));
+        std::vector<uint8_t> valid(heights.size());
+        for (int64_t j0 = 0; j0 < height; j0 += rowsPerBand) {
+            const int64_t rows = std::min(rowsPerBand, height - j0);
+            reader_->read(0, j0, width, rows, heights.data(), valid.data());
+            try {
+                builder.addRows(j0, rows, heights.data(), valid.data());
+            } catch (const GridError& e) {
+                throw InputError(path + ": " + e.what());
+            }
         }
+        summary_ = builder.finish();
+        const std::string failed = ranks::leader() ? writeSummarySidecar(sidecar, key, summary_) : "";
+        summaryOrigin_ = failed.empty() ? "one pass over the raster, saved to " + sidecar
+                                        : "one pass over the raster (not saved: " + failed + ")";
     }
-    summary_ = builder.finish();
     if (summary_.nodataVertices == width * height) throw InputError(path + ": every vertex is nodata");
     if (summary_.validCells == 0)
         throw InputError(fmt::format("{}: no cell has four valid corners ({} of {} vertices are nodata)", path,

@@ -1,5 +1,5 @@
 // A DEM held as tiles read on demand (docs/architecture.md, "Tiled grids"): opening streams the raster once, a
-// band of rows at a time, for the grid's summary; each tile is then one windowed read through GDAL, kept in a
+// band of rows at a time, for the grid's summary (or reads it from the sidecar an earlier open saved); each tile is then one windowed read through GDAL, kept in a
 // least-recently-used cache bounded in bytes. Nothing in proportion to the raster is ever held.
 #pragma once
 
@@ -27,6 +27,9 @@ public:
 
     const DemWindowReader& reader() const { return *reader_; }
     const GridSummary& summary() const { return summary_; }
+    // Where the summary came from: "read from SIDECAR", or "one pass over the raster, saved to SIDECAR" (or why
+    // it was not saved).
+    const std::string& summaryOrigin() const { return summaryOrigin_; }
     const TileLayout& layout() const { return layout_; }
 
     // Tile (ti, tj), from the cache or read now.
@@ -50,6 +53,7 @@ private:
 
     std::unique_ptr<DemWindowReader> reader_;
     GridSummary summary_;
+    std::string summaryOrigin_;
     TileLayout layout_;
     std::unique_ptr<TileCache<HeightTile>> cache_;
 };

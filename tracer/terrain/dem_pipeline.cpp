@@ -7,6 +7,7 @@
 #include "loaders/raster_writer.h"
 #include "loaders/crs.h"
 #include "tracer/core/errors.h"
+#include "loaders/tiled_dem.h"
 #include "tracer/core/ranks.h"
 #include "tracer/core/resources.h"
 #include "tracer/core/text.h"
@@ -66,6 +67,8 @@ std::string demInfoReport(const DemSource& source, const RunListener& listener) 
                            layout.tilesX(), layout.tilesY(), kTileCells, kTileCells,
                            humanBytes(double(g.tileSource()->cacheBudgetBytes())),
                            g.pyramidLevels() - g.tileLevels());
+        if (const auto* dem = dynamic_cast<const TiledDem*>(g.tileSource()))
+            out += fmt::format("summary:     {}\n", dem->summaryOrigin());
     } else {
         out += "held:        whole, in memory\n";
     }

@@ -1,0 +1,32 @@
+// The summary of a DEM held as tiles (heightfield/grid_summary.h), kept in a sidecar file beside the DEM, as
+// GDAL keeps overviews in a .ovr: opening the DEM again reads the summary instead of streaming every sample
+// (docs/architecture.md, "Tiled grids"). The sidecar names what it was made from (every file GDAL reads for the
+// raster, with its size and modification time, and how the samples are decoded); a sidecar whose key differs
+// (the DEM or a VRT's source changed) or that does not parse is made again.
+#pragma once
+
+#include "heightfield/grid_summary.h"
+#include "loaders/dem_loader.h"
+
+#include <optional>
+#include <string>
+
+namespace terracast {
+
+// The sidecar's path: the DEM's own with ".terracast-summary" appended.
+std::string summarySidecarPath(const std::string& demPath);
+
+// The key a sidecar must carry to describe `reader`'s raster as it is now; empty when the raster has a file
+// that is not a local regular file (an in-memory or network source), which gets no sidecar.
+std::string summaryKey(const DemWindowReader& reader);
+
+// The summary stored at `sidecarPath` under `key`, for a grid of width x height vertices; nothing when the file
+// is missing, carries another key, or does not parse.
+std::optional<GridSummary> readSummarySidecar(const std::string& sidecarPath, const std::string& key, int64_t width,
+                                              int64_t height);
+
+// Writes `summary` under `key` to `sidecarPath` (through a temporary file and a rename). Returns "" or the reason
+// it could not (a read-only folder): the sidecar is a cache, and a DEM opens without it.
+std::string writeSummarySidecar(const std::string& sidecarPath, const std::string& key, const GridSummary& summary);
+
+}  // namespace terracast
