@@ -516,7 +516,7 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, c
     const int parts = shared ? ranks::size() : 1;
     const auto [firstRow, endRow] = sharedRows(height, shared ? ranks::rank() : 0, parts);
     // From the first raster row on (the grid's last), so that a bad height is reported at the first raster row
-    // that holds one.
+    // that holds one (in a shared load: the first of the rank that meets one first; that rank ends them all).
     const int64_t rowsPerBand = std::max<int64_t>(1, (int64_t{1} << 21) / width);
     for (int64_t r = firstRow; r < endRow; r += rowsPerBand) {
         const auto [j0, j1] = gridRows(r, std::min(endRow, r + rowsPerBand));

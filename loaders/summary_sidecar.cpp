@@ -8,7 +8,10 @@
 
 #include <fmt/format.h>
 
+#include <sys/stat.h>
+
 #include <bit>
+#include <cctype>
 #include <chrono>
 #include <cstring>
 #include <filesystem>
@@ -21,7 +24,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr char kFormatLine[] = "terracast grid summary 1\n";
+// The format's and the summary's version: raise it whenever the layout below or what a summary holds changes
+// (GridSummaryBuilder, PyramidCoding::forHeights, the int16 storage choice), so that older sidecars are made again.
+constexpr char kFormatLine[] = "terracast grid summary 2\n";
 
 // The summary's fixed fields, in the order they are stored.
 struct Fields {
@@ -58,17 +63,24 @@ std::string summaryKey(const DemWindowReader& reader) {
                                   sizeof(Fields), std::endian::native == std::endian::little ? "little" : "big");
     const auto files = reader.files();
     if (files.empty()) return "";
-    for (const std::string& file : files) {
+    for (size_t k = 0; k < files.size(); ++k) {
         std::error_code ec;
-        const fs::path path = fs::absolute(file, ec);
-        if (ec || !fs::is_regular_file(path, ec)) return "";
-        const auto size = fs::file_size(path, ec);
-        const auto modified = fs::last_write_time(path, ec);
-        if (ec) return "";
+        const fs::path path = fs::absolute(files[k], ec);
         // The key is one line: a file name with a line break gets no sidecar.
-        if (path.string().find('\n') != std::string::npos) return "";
-        key += fmt::format(" {} {} {};", path.string(), size,
-                           std::chrono::duration_cast<std::chrono::nanoseconds>(modified.time_since_epoch()).count());
+        if (ec || path.string().find('\n') != std::string::npos) return "";
+        // GDAL lists a VRT's sources but not the sources of a source that is itself a VRT: a change there could
+        // not be seen, so such a mosaic gets no sidecar.
+        std::string extension = path.extension().string();
+        for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+        if (k > 0 && extension == ".vrt") return "";
+        // Size, modification time, and the inode's change time, which every write, rename or copy over the file
+        // moves and no tool sets back (`touch -r` and `cp -p` restore the modification time only), with the
+        // device and inode: a file replaced by another is another inode.
+        struct stat st {};
+        if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return "";
+        key += fmt::format(" {} {} {}.{:09d} {}.{:09d} {}:{};", path.string(), int64_t(st.st_size),
+                           int64_t(st.st_mtim.tv_sec), long(st.st_mtim.tv_nsec), int64_t(st.st_ctim.tv_sec),
+                           long(st.st_ctim.tv_nsec), uint64_t(st.st_dev), uint64_t(st.st_ino));
     }
     return key;
 }
@@ -111,7 +123,7 @@ std::optional<GridSummary> readSummarySidecar(const std::string& sidecarPath, co
 }
 
 std::string writeSummarySidecar(const std::string& sidecarPath, const std::string& key, const GridSummary& s) {
-    if (key.empty()) return "the raster is not made of local files";
+    if (key.empty()) return "its files cannot all be checked for changes (a network or in-memory source, or a VRT of VRTs)";
     std::string out = std::string(kFormatLine) + key + "\n";
     Fields f;
     std::memset(&f, 0, sizeof f);  // the padding too: every byte written is defined

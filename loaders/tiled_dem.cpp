@@ -1,6 +1,7 @@
 #include "loaders/tiled_dem.h"
 
 #include "loaders/summary_sidecar.h"
+#include "tracer/core/cancel.h"
 #include "tracer/core/errors.h"
 #include "tracer/core/ranks.h"
 
@@ -39,9 +40,17 @@ TiledDem::TiledDem(const std::string& path, size_t cacheBytes, const DemLoadOpti
             }
         }
         summary_ = builder.finish();
-        const std::string failed = ranks::leader() ? writeSummarySidecar(sidecar, key, summary_) : "";
-        summaryOrigin_ = failed.empty() ? "one pass over the raster, saved to " + sidecar
-                                        : "one pass over the raster (not saved: " + failed + ")";
+        if (!ranks::leader()) {
+            summaryOrigin_ = "one pass over the raster, saved by rank 0 to " + sidecar;
+        } else if (summaryKey(*reader_) != key) {
+            // The files changed during the pass: what was read may be neither version.
+            summaryOrigin_ = "one pass over the raster (not saved: the DEM changed while it was read)";
+        } else {
+            const DeferExitOnCancel finishWriting;  // loadDem exits at once on Ctrl-C; not halfway through this
+            const std::string failed = writeSummarySidecar(sidecar, key, summary_);
+            summaryOrigin_ = failed.empty() ? "one pass over the raster, saved to " + sidecar
+                                            : "one pass over the raster (not saved: " + failed + ")";
+        }
     }
     if (summary_.nodataVertices == width * height) throw InputError(path + ": every vertex is nodata");
     if (summary_.validCells == 0)

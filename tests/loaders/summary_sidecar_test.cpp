@@ -102,4 +102,11 @@ TEST_CASE("Summary sidecar: a VRT's sidecar is made again when one of its source
     CHECK(startsWith(TiledDem(vrt.string(), size_t(1) << 24).summaryOrigin(), "read from"));
     touch(source, 5);  // the VRT itself is unchanged
     CHECK(startsWith(TiledDem(vrt.string(), size_t(1) << 24).summaryOrigin(), "one pass"));
+    // A VRT of that VRT: GDAL does not list the inner VRT's sources, so no sidecar could see them change.
+    const fs::path outer = fs::path(dir.file("outer.vrt"));
+    REQUIRE(std::system(("gdalbuildvrt -q '" + outer.string() + "' '" + vrt.string() + "'").c_str()) == 0);
+    const TiledDem nested(outer.string(), size_t(1) << 24);
+    CHECK(nested.summaryOrigin() == "one pass over the raster (not saved: its files cannot all be checked for "
+                                    "changes (a network or in-memory source, or a VRT of VRTs))");
+    CHECK_FALSE(fs::exists(summarySidecarPath(outer.string())));
 }

@@ -35,6 +35,19 @@ public:
     ExitOnCancel& operator=(const ExitOnCancel&) = delete;
 };
 
+// Inside an ExitOnCancel scope, a stretch that writes a file: while one lives an interrupt only sets the flag
+// (the enclosing work stops at its next check), so that the write's temporary file is removed or renamed.
+class DeferExitOnCancel {
+public:
+    DeferExitOnCancel() : saved_(exitOnCancelDepth().exchange(0)) {}
+    ~DeferExitOnCancel() { exitOnCancelDepth().fetch_add(saved_); }
+    DeferExitOnCancel(const DeferExitOnCancel&) = delete;
+    DeferExitOnCancel& operator=(const DeferExitOnCancel&) = delete;
+
+private:
+    int saved_;
+};
+
 // Throws Cancelled when cancellation was requested.
 inline void throwIfCancelled() {
     if (cancelFlag().load(std::memory_order_relaxed)) throw Cancelled();

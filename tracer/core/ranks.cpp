@@ -37,6 +37,11 @@ void start() {
         const auto entry = reinterpret_cast<Entry>(moduleEntry(modulePath("TERRACAST_MPI_MODULE", TERRACAST_MPI_MODULE_PATH),
                                                                "terracastRanks", "MPI", "TERRACAST_MPI_MODULE", true));
         const TerracastRanksApi* loaded = entry();
+        if (loaded->version != TERRACAST_RANKS_API_VERSION)
+            throw std::runtime_error("the MPI module is from another build of terracast (its interface is version " +
+                                     std::to_string(loaded->version) + ", this program's " +
+                                     std::to_string(TERRACAST_RANKS_API_VERSION) + "); set TERRACAST_MPI_MODULE to "
+                                     "the module built with it");
         if (loaded->init(&myRank, &rankCount) != 0) throw std::runtime_error("MPI did not start");
         api = loaded;
     });

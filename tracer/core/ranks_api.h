@@ -5,7 +5,11 @@
 #include <cstdint>
 
 extern "C" {
+// Raised whenever the table below changes, so that a module from another build is refused rather than called
+// with the wrong arguments.
+#define TERRACAST_RANKS_API_VERSION 2
 struct TerracastRanksApi {
+    int version;                        // TERRACAST_RANKS_API_VERSION of the module's build
     int (*init)(int* rank, int* size);  // 0 when MPI started
     void (*barrier)();
     void (*broadcast)(void* data, size_t bytes, int root);

@@ -91,7 +91,7 @@ void finalize() {
 extern "C" {
 
 __attribute__((visibility("default"))) const TerracastRanksApi* terracastRanks() {
-    static const TerracastRanksApi api{init, barrier, broadcast, sumInt64, sumFloatsToLeader,
+    static const TerracastRanksApi api{TERRACAST_RANKS_API_VERSION, init, barrier, broadcast, sumInt64, sumFloatsToLeader,
                                        resetTasks, nextTask, abortAll, finalize};
     return &api;
 }
