@@ -1,5 +1,6 @@
-// Loading elevation rasters. GDAL reads georeferenced rasters (GeoTIFF, SRTM .hgt, ...), OpenImageIO reads
-// PNG height maps; both end in the same HeightGrid with rows flipped so that y points north.
+// Loading elevation rasters. GDAL reads georeferenced rasters (GeoTIFF, SRTM .hgt, ...) here, whole or as
+// tiles (tiled_dem.cpp); PNG height maps are read by png_height_map.cpp; both end in the same HeightGrid with
+// rows flipped so that y points north, checked by dem_checks.cpp.
 //
 // Samples sit at pixel centres, following GDAL's geotransform (pixel-is-area; for SRTM .hgt GDAL already
 // shifts the origin half a pixel so that centres fall on whole degrees). Geographic rasters are mapped to
@@ -12,9 +13,10 @@
 #include "tracer/core/resources.h"
 #include "tracer/core/text.h"
 #include "loaders/dem_loader.h"
+#include "loaders/dem_checks.h"
+#include "loaders/png_height_map.h"
 #include "loaders/tiled_dem.h"
 #include "loaders/input_files.h"
-#include "loaders/image_codec.h"
 
 #include "tracer/core/cancel.h"
 #include "tracer/core/errors.h"
@@ -32,7 +34,6 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <mutex>
 #include <optional>
 #include <stdexcept>
@@ -44,20 +45,11 @@ namespace terracast {
 namespace {
 
 using namespace loader_support;
+using namespace dem_checks;
 
 constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
-// Per vertex while loading and tracing: the height, the nodata flag, the cell flag, the pyramids (under a
-// third of a float per cell) and the reader's float copy of the raster row data.
-constexpr double kBytesPerVertex = sizeof(float) + 2 * sizeof(uint8_t) + sizeof(float) / 3.0 + sizeof(float);
-// Heights farther than this from sea level (1000 km; the Earth's relief spans 20 km) are refused as a wrong
-// unit, scale or undeclared nodata: tracing them would lose all float precision on real terrain.
-constexpr double kMaxAbsHeightM = 1.0e6;
 // The largest window (in samples) whose read buffer a thread keeps for the next read: a tile and its edges.
 constexpr size_t kReusedSamples = size_t{1} << 17;
-// Cell sizes outside this range come from a broken geotransform or unit: the extent of the grid would
-// overflow, or its cells vanish, in the float arithmetic of tracing.
-constexpr double kMinCellSizeM = 1.0e-6;
-constexpr double kMaxCellSizeM = 1.0e6;
 constexpr double kLargeExtentDeg = 5.0;                              // wider geographic extents get a warning
 // Geographic DEMs whose east-west scale at the north or south edge differs from the centre's by more are refused
 // (a 1-degree tile stays under it up to 80 degrees of latitude).
@@ -68,68 +60,9 @@ constexpr double kUsSurveyFootM = 1200.0 / 3937.0;                   // US surve
 // The smallest tile cache a tiled grid is opened with when it is chosen for its size: 64 tiles of 257 x 257
 // int16 vertices with their pyramids, enough for the rays of a few threads crossing tile corners.
 constexpr double kMinTileCacheBytes = 16.0 * 1024 * 1024;
-// The largest raster held even as tiles: ten times the largest national LiDAR DEMs. Opening one streams every
-// sample once, which takes hours beyond this.
-constexpr double kMaxRasterSamples = 0x1p39;
-
 std::string toLower(std::string s) {
     std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return s;
-}
-
-// A raster too large to hold whole, with what the process held and the limit (loadDem holds it as tiles).
-struct RasterTooLarge : InputError {
-    RasterTooLarge(const std::string& message, double held, double limit)
-        : InputError(message), heldBytes(held), limitBytes(limit) {}
-    double heldBytes;
-    double limitBytes;
-};
-
-// Rejects rasters without a cell, and rasters too large to hold, before anything is allocated (the second
-// check only for a `maxBytes` of 0, the default limit, or more).
-void checkRasterSize(const std::string& path, int64_t width, int64_t height, double maxBytes) {
-    if (width <= 0 || height <= 0)
-        throw InputError(fmt::format("{}: raster is {} x {}, with no sample to trace", path, width, height));
-    if (width < 2 || height < 2)
-        throw InputError(fmt::format("{}: {} x {} raster has no cell to trace (need at least 2 x 2)", path, width,
-                                     height));
-    if (double(width) * double(height) > kMaxRasterSamples)
-        throw InputError(fmt::format("{}: {} x {} raster holds {:.3g} samples, more than the {:.3g} (2^39) terracast "
-                                     "traces, even as tiles",
-                                     path, width, height, double(width) * double(height), kMaxRasterSamples));
-    if (maxBytes < 0.0) return;  // a window reader, which never holds the raster
-    // What the process holds already (libraries, the image codec when it reads a PNG) counts against the limit.
-    const double held = currentResidentBytes();
-    const double bytes = static_cast<double>(width) * static_cast<double>(height) * kBytesPerVertex;
-    const double limit = memoryLimitBytes(maxBytes);
-    if (held + bytes > limit)
-        throw RasterTooLarge(fmt::format("{}: {} x {} raster needs about {} to load and trace ({} held already), "
-                                         "more than the {} limit (--max-memory)",
-                                         path, width, height, humanBytes(bytes), humanBytes(held), humanBytes(limit)),
-                             held, limit);
-}
-
-// Builds the grid, naming the file in any GridError, and refuses grids without a cell to trace.
-// `metresPerUnit` is the source's vertical unit, offered to the grid as a candidate scale for int16 storage.
-HeightGrid makeGrid(const std::string& path, int64_t width, int64_t height, double cellSizeXM, double cellSizeYM,
-                    std::vector<float> heightsM, std::vector<uint8_t> valid, double metresPerUnit) {
-    const auto sane = [](double m) { return m >= kMinCellSizeM && m <= kMaxCellSizeM; };
-    if (!sane(cellSizeXM) || !sane(cellSizeYM))
-        throw InputError(fmt::format("{}: cell size {:g} x {:g} m, expected {:g} m to {:g} m (a wrong geotransform or "
-                                     "unit?)",
-                                     path, cellSizeXM, cellSizeYM, kMinCellSizeM, kMaxCellSizeM));
-    HeightGrid grid;
-    try {
-        grid = HeightGrid(width, height, cellSizeXM, cellSizeYM, std::move(heightsM), std::move(valid),
-                          StoragePolicy::Auto, metresPerUnit);
-    } catch (const GridError& e) {
-        throw InputError(path + ": " + e.what());
-    }
-    if (grid.nodataVertexCount() == width * height) throw InputError(path + ": every vertex is nodata");
-    if (grid.validCellCount() == 0)
-        throw InputError(fmt::format("{}: no cell has four valid corners ({} of {} vertices are nodata)", path,
-                                     grid.nodataVertexCount(), width * height));
-    return grid;
 }
 
 // ---- GDAL ----
@@ -298,19 +231,6 @@ void checkBlockSize(const std::string& path, GDALDataset& dataset, GDALRasterBan
                                  path, band.GetBand(), dataset.GetRasterXSize(), dataset.GetRasterYSize(), blockX, blockY,
                                  size(blockBytes), size(allowedBytes),
                                  limit < plausibleBytes ? "(the memory limit, --max-memory)" : "(damaged header?)"));
-}
-
-// Reports a non-finite or out-of-range height at raster (column, row).
-[[noreturn]] void throwBadHeight(const std::string& path, int64_t column, int64_t row, double heightM) {
-    if (std::isnan(heightM))
-        throw InputError(fmt::format("{}: height at column {}, row {} is NaN (not declared as nodata)", path, column,
-                                     row));
-    if (std::isinf(heightM))
-        throw InputError(fmt::format("{}: height at column {}, row {} is {}infinite (not declared as nodata)", path,
-                                     column, row, heightM < 0 ? "minus " : ""));
-    throw InputError(fmt::format("{}: height at column {}, row {} is {:g} m, expected within {:g} m of sea level "
-                                 "(wrong unit or scale, or an undeclared nodata value?)",
-                                 path, column, row, heightM, kMaxAbsHeightM));
 }
 
 }  // namespace
@@ -535,138 +455,6 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, c
     return dem;
 }
 
-// ---- OpenImageIO ----
-
-// Walks the PNG chunk layout (signature, then length, type, data and CRC per chunk, up to IEND) without
-// decoding anything, so that a truncated file gets a one-line InputError: OpenImageIO leaves libpng's default
-// error handler in place, which prints to stderr. A file named .png without the PNG signature is refused here.
-void checkPngIsComplete(const std::string& path) {
-    constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-    std::error_code ec;
-    const uint64_t size = std::filesystem::file_size(path, ec);
-    std::ifstream in(path, std::ios::binary);
-    unsigned char bytes[8] = {};
-    if (ec || !in.read(reinterpret_cast<char*>(bytes), 8)) return;
-    if (!std::equal(bytes, bytes + 8, kSignature))
-        throw InputError(path + ": not a PNG file (its first 8 bytes are not the PNG signature)");
-    int64_t width = 0, height = 0;
-    int bitDepth = 8, channels = 1;
-    uint64_t compressedBytes = 0;
-    for (uint64_t position = 8;;) {
-        if (position + 8 > size || !in.seekg(static_cast<std::streamoff>(position)) ||
-            !in.read(reinterpret_cast<char*>(bytes), 8))
-            throw InputError(fmt::format("{}: truncated PNG ({} bytes, ends before its IEND chunk)", path, size));
-        const uint64_t length = uint64_t{bytes[0]} << 24 | uint64_t{bytes[1]} << 16 | uint64_t{bytes[2]} << 8 |
-                                uint64_t{bytes[3]};
-        // The chunk type as printable text: a damaged file's type bytes may be anything, newlines included.
-        std::string type;
-        for (int k = 4; k < 8; ++k)
-            type += std::isprint(bytes[k]) ? std::string(1, static_cast<char>(bytes[k])) : fmt::format("\\x{:02x}", bytes[k]);
-        const uint64_t end = position + 12 + length;  // length and type, data, CRC
-        if (end > size)
-            throw InputError(fmt::format("{}: truncated PNG ({} chunk at byte {} ends at byte {}, file has {})", path,
-                                         type, position, end, size));
-        if (position == 8 && type == "IHDR" && length >= 10) {
-            // The header's size, read here so that a 0 x 0 image gets the same message as any other raster.
-            unsigned char header[10] = {};
-            if (in.read(reinterpret_cast<char*>(header), 10)) {
-                const auto be32 = [](const unsigned char* b) {
-                    return int64_t{b[0]} << 24 | int64_t{b[1]} << 16 | int64_t{b[2]} << 8 | int64_t{b[3]};
-                };
-                width = be32(header);
-                height = be32(header + 4);
-                bitDepth = header[8];
-                const int colourType = header[9];
-                channels = colourType == 2 ? 3 : colourType == 4 ? 2 : colourType == 6 ? 4 : 1;
-                if (width == 0 || height == 0) throw InputError(fmt::format("{}: raster is {} x {}, with no sample to trace", path, width, height));
-            }
-        }
-        if (type == "IDAT") compressedBytes += length;
-        if (type == "IEND") {
-            // Deflate encodes at most 258 bytes in a match of about 2 bits (1032 : 1): a header that claims more
-            // samples than the compressed data could hold is refused here, before the decoder allocates for it.
-            // Each row adds its filter byte (and interlaced passes up to seven per row).
-            const double rowBytes = std::ceil(double(width) * channels * bitDepth / 8.0) + 8.0;
-            const double rawBytes = double(height) * rowBytes;
-            if (rawBytes > 1100.0 * double(compressedBytes) + 65536.0)
-                throw InputError(fmt::format("{}: header claims {} x {} samples ({} of pixel data), more than its {} "
-                                             "compressed bytes can hold; the file is truncated or corrupt",
-                                             path, width, height, humanBytes(rawBytes), compressedBytes));
-            return;
-        }
-        position = end;
-    }
-}
-
-// Channel 0 of an open image as raw stored integers, in image row order (row 0 at the top).
-template <typename Sample>
-std::vector<Sample> readChannel0(const std::string& path, void* input, const image_codec::ImageHeader& spec,
-                                 image_codec::PixelType type) {
-    std::vector<Sample> samples(static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height));
-    std::string error;
-    if (!image_codec::api().read(input, 1, type, samples.data(), error))
-        throw InputError(path + ": cannot read pixels (" + firstLine(error) + ")");
-    return samples;
-}
-
-// Loads channel 0 of an 8- or 16-bit PNG height map, scaled by the options.
-LoadedDem loadWithImageInput(const std::string& path, const DemLoadOptions& options) {
-    if (!(options.imageCellSizeM > 0.0) || !std::isfinite(options.imageCellSizeM))
-        throw InputError(fmt::format("{}: image cell size must be positive and finite, got {} m", path,
-                                     options.imageCellSizeM));
-    if (!(options.imageHeightScale > 0.0) || !std::isfinite(options.imageHeightScale))
-        throw InputError(fmt::format("{}: image height scale must be positive and finite, got {} m per unit", path,
-                                     options.imageHeightScale));
-
-    checkPngIsComplete(path);
-    // The codec module is loaded first: a failure to load it is no message of libpng's.
-    const image_codec::Api& codec = image_codec::api();
-    // libpng's own error lines are kept off stderr; OpenImageIO passes their text on through its errors.
-    CapturedStderr libpngMessages;
-    image_codec::ImageHeader spec;  // channel 0 is read as stored, not multiplied by alpha
-    std::string error;
-    const image_codec::OpenImage input(codec.open(path, spec, error));
-    if (!input.get()) throw InputError(path + ": cannot read PNG (" + firstLine(error) + ")");
-
-    LoadedDem dem;
-    dem.path = path;
-    dem.driver = "PNG (OpenImageIO)";
-    const int64_t width = spec.width;
-    const int64_t height = spec.height;
-    dem.sourceWidth = width;
-    dem.sourceHeight = height;
-    checkRasterSize(path, width, height, options.maxBytes);
-    if (spec.channels > 1)
-        dem.warnings.push_back(fmt::format("{}: {} channels, using channel 0 as height", path, spec.channels));
-
-    const auto vertexCount = static_cast<size_t>(width * height);
-    std::vector<float> heightsM = largeVector<float>(vertexCount);
-    // Image row 0 is the north edge; grid row 0 is the south edge.
-    auto store = [&](const auto& samples) {
-        for (int64_t row = 0; row < height; ++row) {
-            const int64_t j = height - 1 - row;
-            for (int64_t i = 0; i < width; ++i) {
-                const double heightM =
-                    static_cast<double>(samples[static_cast<size_t>(row * width + i)]) * options.imageHeightScale;
-                if (heightM > kMaxAbsHeightM) throwBadHeight(path, i, row, heightM);
-                heightsM[static_cast<size_t>(j * width + i)] = static_cast<float>(heightM);
-            }
-        }
-    };
-    using image_codec::PixelType;
-    if (spec.format == PixelType::UInt8)
-        store(readChannel0<uint8_t>(path, input.get(), spec, PixelType::UInt8));
-    else if (spec.format == PixelType::UInt16)
-        store(readChannel0<uint16_t>(path, input.get(), spec, PixelType::UInt16));
-    else
-        throw InputError(fmt::format("{}: {} samples, expected 8- or 16-bit unsigned integers", path,
-                                     spec.formatName));
-
-    dem.grid = makeGrid(path, width, height, options.imageCellSizeM, options.imageCellSizeM, std::move(heightsM), {},
-                        options.imageHeightScale);
-    return dem;
-}
-
 }  // namespace
 
 LoadedDem loadDem(const std::string& path, const DemLoadOptions& options) {
@@ -677,7 +465,7 @@ LoadedDem loadDem(const std::string& path, const DemLoadOptions& options) {
         if (options.tileCacheBytes > 0.0)
             throw InputError(path + ": PNG height maps are read whole, not as tiles (convert it to a tiled GeoTIFF "
                                     "to hold it as tiles: gdal_translate -co TILED=YES)");
-        return loadWithImageInput(path, options);
+        return loadPngHeightMap(path, options);
     }
     if (options.tileCacheBytes > 0.0) return openTiledDem(path, size_t(options.tileCacheBytes), options);
     // A raster too large to hold whole is held as tiles, with a quarter of the memory left for their cache.
