@@ -12,6 +12,29 @@
 #include <vector>
 
 namespace terracast {
+namespace {
+
+// The summary from one pass over the raster, a band of rows at a time (about 16 MiB of heights and flags at
+// most).
+GridSummary streamSummary(const DemWindowReader& reader, const std::string& path) {
+    const int64_t width = reader.width(), height = reader.height();
+    GridSummaryBuilder builder(width, height, reader.metresPerUnit());
+    const int64_t rowsPerBand = std::clamp<int64_t>((int64_t{16} << 20) / (5 * width), 1, kTileCells);
+    std::vector<float> heights(static_cast<size_t>(rowsPerBand * width));
+    std::vector<uint8_t> valid(heights.size());
+    for (int64_t j0 = 0; j0 < height; j0 += rowsPerBand) {
+        const int64_t rows = std::min(rowsPerBand, height - j0);
+        reader.read(0, j0, width, rows, heights.data(), valid.data());
+        try {
+            builder.addRows(j0, rows, heights.data(), valid.data());
+        } catch (const GridError& e) {
+            throw InputError(path + ": " + e.what());
+        }
+    }
+    return builder.finish();
+}
+
+}  // namespace
 
 TiledDem::TiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options)
     : reader_(std::make_unique<DemWindowReader>(path, options)) {
@@ -19,27 +42,13 @@ TiledDem::TiledDem(const std::string& path, size_t cacheBytes, const DemLoadOpti
     const int64_t width = reader_->width(), height = reader_->height();
     layout_ = TileLayout{width, height};
     // The summary from the sidecar when it describes the DEM as it is now, else from one pass over the raster,
-    // a band of rows at a time (about 16 MiB of heights and flags at most), saved for the next open. Under
-    // mpirun the leader saves it.
+    // saved for the next open. Under mpirun the leader saves it.
     const std::string sidecar = summarySidecarPath(path), key = summaryKey(*reader_);
     if (auto stored = readSummarySidecar(sidecar, key, width, height)) {
         summary_ = std::move(*stored);
         summaryOrigin_ = "read from " + sidecar;
     } else {
-        GridSummaryBuilder builder(width, height, reader_->metresPerUnit());
-        const int64_t rowsPerBand = std::clamp<int64_t>((int64_t{16} << 20) / (5 * width), 1, kTileCells);
-        std::vector<float> heights(static_cast<size_t>(rowsPerBand * width));
-        std::vector<uint8_t> valid(heights.size());
-        for (int64_t j0 = 0; j0 < height; j0 += rowsPerBand) {
-            const int64_t rows = std::min(rowsPerBand, height - j0);
-            reader_->read(0, j0, width, rows, heights.data(), valid.data());
-            try {
-                builder.addRows(j0, rows, heights.data(), valid.data());
-            } catch (const GridError& e) {
-                throw InputError(path + ": " + e.what());
-            }
-        }
-        summary_ = builder.finish();
+        summary_ = streamSummary(*reader_, path);
         if (!ranks::leader()) {
             summaryOrigin_ = "one pass over the raster, saved by rank 0 to " + sidecar;
         } else if (summaryKey(*reader_) != key) {

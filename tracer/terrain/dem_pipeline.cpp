@@ -169,7 +169,6 @@ void renderMap(const DemRenderOptions& o, const RunListener& listener) {
         // bands; the output size follows renderMapView's (scale times the DEM's vertices).
         const double pixels = std::ceil(double(dem.grid.width()) * o.scale) * std::ceil(double(dem.grid.height()) * o.scale);
         const bool png = lowerExtension(o.output) == ".png";
-        if (png) prepareImageWriter(o.output);
         checkMemory(o.dem.path, o.dem.maxMemoryBytes, dem.grid,
                     pixels * (kFilmBytesPerPixel + 1.0 + (png ? kFilmBytesPerPixel + kEncodeBytesPerPixel : 17.0)),
                     fmt::format("the map view at scale {:g}", o.scale));
