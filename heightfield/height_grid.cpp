@@ -3,6 +3,7 @@
 #include "heightfield/grid_summary.h"
 #include "heightfield/height_tile.h"
 #include "heightfield/large_buffer.h"
+#include "heightfield/pyramid_build.h"
 
 #include <algorithm>
 #include <array>
@@ -24,9 +25,15 @@ namespace {
 // f must not throw.
 template <typename F>
 void parallelRanges(int64_t n, int64_t workPerItem, F&& f) {
-    const int64_t threads =
-        std::min<int64_t>(n, std::max<int64_t>(1, int64_t(std::thread::hardware_concurrency())));
-    if (threads <= 1 || n * workPerItem < (int64_t(1) << 20)) {
+    // hardware_concurrency reads a file under /sys on Linux: asked once, and only for work worth threads (a
+    // tile's small pyramid levels come here thousands of times).
+    if (n * workPerItem < (int64_t(1) << 20)) {
+        f(int64_t(0), n);
+        return;
+    }
+    static const int64_t hardwareThreads = std::max<int64_t>(1, int64_t(std::thread::hardware_concurrency()));
+    const int64_t threads = std::min<int64_t>(n, hardwareThreads);
+    if (threads <= 1) {
         f(int64_t(0), n);
         return;
     }
@@ -215,47 +222,13 @@ void HeightGrid::buildPyramid() {
     pyramidScale_ = coding.scale;
     pyramidCodesPerMetre_ = coding.codesPerMetre;
 
-    // Level 1 straight from the vertices: block (bi, bj) covers cells 2bi..2bi+1, 2bj..2bj+1, that is
-    // vertices 2bi..2bi+2, 2bj..2bj+2. A cell's own extremes take only its valid vertices, so a hole cell
-    // next to a valid vertex still bounds it (the traversal's corner handling relies on that). Each block row
-    // first takes the column extremes of its three vertex rows, then the extremes of three columns per block;
-    // the highest and the lowest in one pass over the heights.
+    // Level 1 straight from the vertices (pyramid_build.h), a band of block rows per thread.
     const int64_t bx1 = (cellsX() + 1) / 2, by1 = (cellsY() + 1) / 2;
     std::vector<int16_t> high1(static_cast<size_t>(bx1 * by1)), low1(high1.size());
     auto levelOne = [&](auto get, auto none, auto highCode, auto lowCode) {
-        using T = typename decltype(none)::first_type;
         parallelRanges(by1, 3 * width_, [&](int64_t b0, int64_t b1) {
-            std::vector<T> hi(static_cast<size_t>(width_)), lo(static_cast<size_t>(width_));
-            for (int64_t bj = b0; bj < b1; ++bj) {
-                std::fill(hi.begin(), hi.end(), none.first);
-                std::fill(lo.begin(), lo.end(), none.second);
-                for (int64_t j = 2 * bj; j <= std::min(2 * bj + 2, cellsY()); ++j) {
-                    const int64_t row = j * width_;
-                    if (valid_.empty()) {
-                        for (int64_t i = 0; i < width_; ++i) {
-                            const T z = get(row + i);
-                            hi[size_t(i)] = std::max(hi[size_t(i)], z);
-                            lo[size_t(i)] = std::min(lo[size_t(i)], z);
-                        }
-                    } else {
-                        for (int64_t i = 0; i < width_; ++i)
-                            if (bit(valid_, row + i)) {
-                                const T z = get(row + i);
-                                hi[size_t(i)] = std::max(hi[size_t(i)], z);
-                                lo[size_t(i)] = std::min(lo[size_t(i)], z);
-                            }
-                    }
-                }
-                for (int64_t bi = 0; bi < bx1; ++bi) {
-                    T h = none.first, l = none.second;
-                    for (int64_t i = 2 * bi; i <= std::min(2 * bi + 2, cellsX()); ++i) {
-                        h = std::max(h, hi[size_t(i)]);
-                        l = std::min(l, lo[size_t(i)]);
-                    }
-                    high1[size_t(bj * bx1 + bi)] = highCode(h);
-                    low1[size_t(bj * bx1 + bi)] = lowCode(l);
-                }
-            }
+            pyramidLevelOneRows(width_, cellsX(), cellsY(), valid_, b0, b1, get, none.first, none.second, highCode,
+                                lowCode, high1.data(), low1.data());
         });
     };
     // Levels 2..n, each from the one below.
@@ -476,23 +449,32 @@ int16_t PyramidCoding::encodeDown(float z) const {
     return int16_t(q);
 }
 
-std::vector<int16_t> pyramidParentLevel(const std::vector<int16_t>& level, int64_t px, int64_t py, bool highest) {
+void pyramidParentLevel(const int16_t* level, int64_t px, int64_t py, bool highest, int16_t* next) {
     const int64_t bx = (px + 1) / 2, by = (py + 1) / 2;
-    const int16_t none = highest ? PyramidCoding::kNoMax : PyramidCoding::kNoMin;
-    std::vector<int16_t> next = largeVector<int16_t>(static_cast<size_t>(bx * by));
-    // Codes order as heights do, so the extreme code is the bound.
-    parallelRanges(by, 4 * bx, [&](int64_t b0, int64_t b1) {
-        for (int64_t bj = b0; bj < b1; ++bj)
-            for (int64_t bi = 0; bi < bx; ++bi) {
-                int16_t m = none;
-                for (int64_t j = 2 * bj; j <= std::min(2 * bj + 1, py - 1); ++j)
-                    for (int64_t i = 2 * bi; i <= std::min(2 * bi + 1, px - 1); ++i) {
-                        const int16_t c = level[size_t(j * px + i)];
-                        m = highest ? std::max(m, c) : std::min(m, c);
-                    }
-                next[size_t(bj * bx + bi)] = m;
+    // Codes order as heights do, so the extreme code is the bound. Every block has at least one child; a last
+    // row (column) without a partner is paired with itself, which leaves its extremes unchanged.
+    auto reduce = [&](auto pick) {
+        parallelRanges(by, 4 * bx, [&](int64_t b0, int64_t b1) {
+            for (int64_t bj = b0; bj < b1; ++bj) {
+                const int16_t* r0 = level + 2 * bj * px;
+                const int16_t* r1 = 2 * bj + 1 < py ? r0 + px : r0;
+                int16_t* out = next + bj * bx;
+                const int64_t pairs = px / 2;
+                for (int64_t bi = 0; bi < pairs; ++bi)
+                    out[bi] = pick(pick(r0[2 * bi], r0[2 * bi + 1]), pick(r1[2 * bi], r1[2 * bi + 1]));
+                if (px % 2 != 0) out[pairs] = pick(r0[px - 1], r1[px - 1]);
             }
-    });
+        });
+    };
+    if (highest)
+        reduce([](int16_t a, int16_t b) { return std::max(a, b); });
+    else
+        reduce([](int16_t a, int16_t b) { return std::min(a, b); });
+}
+
+std::vector<int16_t> pyramidParentLevel(const std::vector<int16_t>& level, int64_t px, int64_t py, bool highest) {
+    std::vector<int16_t> next = largeVector<int16_t>(static_cast<size_t>(((px + 1) / 2) * ((py + 1) / 2)));
+    pyramidParentLevel(level.data(), px, py, highest, next.data());
     return next;
 }
 

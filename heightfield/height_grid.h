@@ -63,8 +63,10 @@ struct PyramidCoding {
     int16_t encodeDown(float z) const;  // the last code whose value is not above z (never kNoMin)
 };
 // The next pyramid level from a level of px x py blocks: each block the highest (`highest`) or lowest code of
-// its up to 2 x 2 children, `none` where it has none.
+// its up to 2 x 2 children (kNoMax or kNoMin when all of them are). The second form writes the
+// ceil(px / 2) x ceil(py / 2) blocks to `next`.
 std::vector<int16_t> pyramidParentLevel(const std::vector<int16_t>& level, int64_t px, int64_t py, bool highest);
+void pyramidParentLevel(const int16_t* level, int64_t px, int64_t py, bool highest, int16_t* next);
 // Pyramid levels of a grid of cellsX x cellsY cells: halving until one block covers it (at least 1).
 int pyramidLevelCount(int64_t cellsX, int64_t cellsY);
 

@@ -1,8 +1,11 @@
 #include "heightfield/height_tile.h"
 
+#include "heightfield/pyramid_build.h"
+
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -12,28 +15,40 @@ namespace {
 
 void setBit(std::vector<uint64_t>& bits, int64_t k) { bits[static_cast<size_t>(k) >> 6] |= uint64_t{1} << (k & 63); }
 
+constexpr int32_t kLowestCode = std::numeric_limits<int16_t>::min();
+constexpr int32_t kHighestCode = std::numeric_limits<int16_t>::max();
+
 }  // namespace
+
+// Vertex and cell validity bits from one flag per vertex, left empty when every vertex is valid.
+void HeightTile::setValidity(const uint8_t* valid) {
+    const auto n = static_cast<size_t>(verticesX_ * verticesY_);
+    if (valid == nullptr || std::memchr(valid, 0, n) == nullptr) return;
+    valid_.assign((n + 63) / 64, 0);
+    for (size_t k = 0; k < n; ++k)
+        if (valid[k] != 0) setBit(valid_, int64_t(k));
+    const int64_t cellsX = verticesX_ - 1;
+    cellValid_.assign(static_cast<size_t>(cellsX * (verticesY_ - 1) + 63) / 64, 0);
+    for (int64_t j = 0; j + 1 < verticesY_; ++j)
+        for (int64_t i = 0; i < cellsX; ++i) {
+            const size_t k = static_cast<size_t>(j * verticesX_ + i);
+            if (valid[k] && valid[k + 1] && valid[k + size_t(verticesX_)] && valid[k + size_t(verticesX_) + 1])
+                setBit(cellValid_, j * cellsX + i);
+        }
+}
+
+void HeightTile::throwNoCode(size_t k, double heightM) const {
+    throw GridError("tile at vertex (" + std::to_string(firstX_ + int64_t(k) % verticesX_) + ", " +
+                    std::to_string(firstY_ + int64_t(k) / verticesX_) + "): height " + std::to_string(heightM) +
+                    " has no int16 code at the grid's scale");
+}
 
 HeightTile::HeightTile(const GridSummary& summary, int64_t firstX, int64_t firstY, int64_t verticesX,
                        int64_t verticesY, const float* heightsM, const uint8_t* valid)
     : firstX_(firstX), firstY_(firstY), verticesX_(verticesX), verticesY_(verticesY),
       codeOffset_(summary.codeOffset), codeScale_(summary.codeScale) {
     const auto n = static_cast<size_t>(verticesX * verticesY);
-    bool allValid = true;
-    for (size_t k = 0; valid != nullptr && k < n && allValid; ++k) allValid = valid[k] != 0;
-    if (!allValid) {
-        valid_.assign((n + 63) / 64, 0);
-        for (size_t k = 0; k < n; ++k)
-            if (valid[k] != 0) setBit(valid_, int64_t(k));
-        const int64_t cellsX = verticesX - 1;
-        cellValid_.assign(static_cast<size_t>(cellsX * (verticesY - 1) + 63) / 64, 0);
-        for (int64_t j = 0; j + 1 < verticesY; ++j)
-            for (int64_t i = 0; i < cellsX; ++i) {
-                const size_t k = static_cast<size_t>(j * verticesX + i);
-                if (valid[k] && valid[k + 1] && valid[k + size_t(verticesX)] && valid[k + size_t(verticesX) + 1])
-                    setBit(cellValid_, j * cellsX + i);
-            }
-    }
+    setValidity(valid);
     if (summary.storage == HeightStorage::Float32) {
         heightsM_.assign(heightsM, heightsM + n);
         buildPyramid(summary);
@@ -49,70 +64,88 @@ HeightTile::HeightTile(const GridSummary& summary, int64_t firstX, int64_t first
         if (unitCodes && z > -1.0e9f && z < 1.0e9f) {
             const int32_t whole = static_cast<int32_t>(z);
             const int64_t c = int64_t(whole) - codeOffset_;
-            if (static_cast<float>(whole) == z && std::bit_cast<uint32_t>(z) != 0x80000000u &&
-                c >= std::numeric_limits<int16_t>::min() && c <= std::numeric_limits<int16_t>::max()) {
+            if (static_cast<float>(whole) == z && std::bit_cast<uint32_t>(z) != 0x80000000u && c >= kLowestCode &&
+                c <= kHighestCode) {
                 codes_[k] = static_cast<int16_t>(c);
                 continue;
             }
         }
         const auto code = int16Code(z, codeScale_, codeOffset_);
-        if (!code && (valid == nullptr || valid[k] != 0))
-            throw GridError("tile at vertex (" + std::to_string(firstX + int64_t(k) % verticesX) + ", " +
-                            std::to_string(firstY + int64_t(k) / verticesX) + "): height " +
-                            std::to_string(heightsM[k]) + " has no int16 code at the grid's scale");
+        if (!code && (valid == nullptr || valid[k] != 0)) throwNoCode(k, heightsM[k]);
         codes_[k] = code.value_or(std::numeric_limits<int16_t>::min());
     }
     buildPyramid(summary);
 }
 
-// As HeightGrid builds its pyramid: level 1 from the valid vertices of each block's 3 x 3 (clipped), each
-// level above from the one below. The tile's first vertex is a multiple of kTileCells, so its blocks are the
-// grid's.
+bool HeightTile::takesWholeMetres(const GridSummary& summary) {
+    return summary.storage == HeightStorage::Int16 && summary.codeScale == 1.0;
+}
+
+HeightTile::HeightTile(const GridSummary& summary, int64_t firstX, int64_t firstY, int64_t verticesX,
+                       int64_t verticesY, const int16_t* wholeMetres, const uint8_t* valid)
+    : firstX_(firstX), firstY_(firstY), verticesX_(verticesX), verticesY_(verticesY),
+      codeOffset_(summary.codeOffset), codeScale_(summary.codeScale) {
+    if (!takesWholeMetres(summary)) throw GridError("a tile of whole metres needs a grid of one metre per code");
+    const auto n = static_cast<size_t>(verticesX * verticesY);
+    setValidity(valid);
+    codes_.resize(n);
+    // The code of an integer height h at one metre per code is h - offset (the float constructor's fast path);
+    // the loop keeps the range of the codes so that one check after it finds any that int16 cannot hold.
+    int32_t lowest = kHighestCode, highest = kLowestCode;
+    for (size_t k = 0; k < n; ++k) {
+        const int32_t c = int32_t(wholeMetres[k]) - codeOffset_;
+        codes_[k] = static_cast<int16_t>(c);
+        lowest = std::min(lowest, c);
+        highest = std::max(highest, c);
+    }
+    if (lowest < kLowestCode || highest > kHighestCode) {
+        // A valid height off the grid's codes means the DEM is not the one summarised; a nodata vertex's 0 may be
+        // off them too, and takes the lowest code as in the float constructor.
+        for (size_t k = 0; k < n; ++k) {
+            const int32_t c = int32_t(wholeMetres[k]) - codeOffset_;
+            if (c >= kLowestCode && c <= kHighestCode) continue;
+            if (valid == nullptr || valid[k] != 0) throwNoCode(k, wholeMetres[k]);
+            codes_[k] = std::numeric_limits<int16_t>::min();
+        }
+    }
+    buildPyramid(summary);
+}
+
+// As HeightGrid builds its pyramid (pyramid_build.h): level 1 from the valid vertices of each block's 3 x 3
+// (clipped), each level above from the one below. The tile's first vertex is a multiple of kTileCells, so its
+// blocks are the grid's.
 void HeightTile::buildPyramid(const GridSummary& summary) {
     levels_ = std::min(kTileLevels, pyramidLevelCount(summary.width - 1, summary.height - 1));
     const int64_t cellsX = verticesX_ - 1, cellsY = verticesY_ - 1;
-    const bool int16 = !codes_.empty();
-    std::vector<std::vector<int16_t>> highs(1), lows(1);
-    const int64_t bx1 = (cellsX + 1) / 2, by1 = (cellsY + 1) / 2;
-    highs[0].assign(static_cast<size_t>(bx1 * by1), PyramidCoding::kNoMax);
-    lows[0].assign(highs[0].size(), PyramidCoding::kNoMin);
-    constexpr float kInf = std::numeric_limits<float>::infinity();
-    for (int64_t bj = 0; bj < by1; ++bj)
-        for (int64_t bi = 0; bi < bx1; ++bi) {
-            // Codes order as heights do: the block's extreme heights, encoded once.
-            int16_t hi = PyramidCoding::kNoMax, lo = PyramidCoding::kNoMin;
-            float hiM = -kInf, loM = kInf;
-            for (int64_t j = 2 * bj; j <= std::min(2 * bj + 2, cellsY); ++j)
-                for (int64_t i = 2 * bi; i <= std::min(2 * bi + 2, cellsX); ++i) {
-                    const int64_t k = j * verticesX_ + i;
-                    if (!valid_.empty() && !bit(valid_, k)) continue;
-                    if (int16) {
-                        hi = std::max(hi, codes_[size_t(k)]);
-                        lo = std::min(lo, codes_[size_t(k)]);
-                    } else {
-                        hiM = std::max(hiM, heightsM_[size_t(k)]);
-                        loM = std::min(loM, heightsM_[size_t(k)]);
-                    }
-                }
-            if (!int16 && hiM >= loM) {
-                hi = summary.pyramid.encodeUp(hiM);
-                lo = summary.pyramid.encodeDown(loM);
-            }
-            highs[0][size_t(bj * bx1 + bi)] = hi;
-            lows[0][size_t(bj * bx1 + bi)] = lo;
-        }
-    int64_t bx = bx1, by = by1;
-    for (int k = 2; k <= levels_; ++k) {
-        highs.push_back(pyramidParentLevel(highs.back(), bx, by, true));
-        lows.push_back(pyramidParentLevel(lows.back(), bx, by, false));
-        bx = (bx + 1) / 2;
-        by = (by + 1) / 2;
-    }
+    int64_t total = 0;
     for (int k = 1; k <= levels_; ++k) {
-        levelStart_[k - 1] = int64_t(maxCodes_.size());
+        levelStart_[k - 1] = total;
         levelBlocksX_[k - 1] = (cellsX + (int64_t(1) << k) - 1) >> k;
-        maxCodes_.insert(maxCodes_.end(), highs[size_t(k - 1)].begin(), highs[size_t(k - 1)].end());
-        minCodes_.insert(minCodes_.end(), lows[size_t(k - 1)].begin(), lows[size_t(k - 1)].end());
+        total += levelBlocksX_[k - 1] * ((cellsY + (int64_t(1) << k) - 1) >> k);
+    }
+    maxCodes_.resize(static_cast<size_t>(total));
+    minCodes_.resize(static_cast<size_t>(total));
+    const int64_t by1 = (cellsY + 1) / 2;
+    if (!codes_.empty()) {
+        const int16_t* codes = codes_.data();
+        auto same = [](int16_t q) { return q; };
+        pyramidLevelOneRows(verticesX_, cellsX, cellsY, valid_, 0, by1, [codes](int64_t k) { return codes[k]; },
+                            PyramidCoding::kNoMax, PyramidCoding::kNoMin, same, same, maxCodes_.data(),
+                            minCodes_.data());
+    } else {
+        const float* h = heightsM_.data();
+        constexpr float kInf = std::numeric_limits<float>::infinity();
+        const PyramidCoding& coding = summary.pyramid;
+        pyramidLevelOneRows(
+            verticesX_, cellsX, cellsY, valid_, 0, by1, [h](int64_t k) { return h[k]; }, -kInf, kInf,
+            [&](float z) { return z == -kInf ? PyramidCoding::kNoMax : coding.encodeUp(z); },
+            [&](float z) { return z == kInf ? PyramidCoding::kNoMin : coding.encodeDown(z); }, maxCodes_.data(),
+            minCodes_.data());
+    }
+    for (int k = 2; k <= levels_; ++k) {
+        const int64_t px = levelBlocksX_[k - 2], py = (cellsY + (int64_t(1) << (k - 1)) - 1) >> (k - 1);
+        pyramidParentLevel(maxCodes_.data() + levelStart_[k - 2], px, py, true, maxCodes_.data() + levelStart_[k - 1]);
+        pyramidParentLevel(minCodes_.data() + levelStart_[k - 2], px, py, false, minCodes_.data() + levelStart_[k - 1]);
     }
 }
 

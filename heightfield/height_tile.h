@@ -6,6 +6,7 @@
 
 #include "heightfield/grid_summary.h"
 #include "heightfield/height_grid.h"
+#include "heightfield/tile_memory.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -49,6 +50,13 @@ public:
     // which means the heights are not those the summary was made from.
     HeightTile(const GridSummary& summary, int64_t firstX, int64_t firstY, int64_t verticesX, int64_t verticesY,
                const float* heightsM, const uint8_t* valid);
+    // The same from heights in whole metres (a 16-bit integer band without scale or offset, nodata vertices at
+    // 0), for a grid whose storage takesWholeMetres: each code is the height less the grid's code offset, the
+    // code the constructor above gives the same height as a float, found without conversions.
+    HeightTile(const GridSummary& summary, int64_t firstX, int64_t firstY, int64_t verticesX, int64_t verticesY,
+               const int16_t* wholeMetres, const uint8_t* valid);
+    // Whether a grid summarised so stores one metre per int16 code (the second constructor's condition).
+    static bool takesWholeMetres(const GridSummary& summary);
 
     int64_t firstX() const { return firstX_; }
     int64_t firstY() const { return firstY_; }
@@ -80,6 +88,8 @@ private:
         return static_cast<size_t>(levelStart_[k - 1] + (bj - (firstY_ >> k)) * levelBlocksX_[k - 1] +
                                    (bi - (firstX_ >> k)));
     }
+    void setValidity(const uint8_t* valid);
+    [[noreturn]] void throwNoCode(size_t k, double heightM) const;
     void buildPyramid(const GridSummary& summary);
     static bool bit(const std::vector<uint64_t>& bits, int64_t k) {
         return (bits[static_cast<size_t>(k) >> 6] >> (k & 63)) & 1u;
@@ -89,15 +99,18 @@ private:
     int64_t firstY_ = 0;
     int64_t verticesX_ = 0;
     int64_t verticesY_ = 0;
-    std::vector<int16_t> codes_;      // Int16 storage
-    std::vector<float> heightsM_;     // Float32 storage
+    template <class T>
+    using Array = std::vector<T, TileAllocator<T>>;
+
+    Array<int16_t> codes_;   // Int16 storage
+    Array<float> heightsM_;  // Float32 storage
     int32_t codeOffset_ = 0;
     double codeScale_ = 1.0;
     std::vector<uint64_t> valid_;      // one bit per vertex; empty when all valid
     std::vector<uint64_t> cellValid_;  // one bit per cell; empty when all valid
     int levels_ = 0;
-    std::vector<int16_t> maxCodes_;  // levels 1..levels_, each row-major, one after the other
-    std::vector<int16_t> minCodes_;  // laid out alike (level 1's entries unused)
+    Array<int16_t> maxCodes_;  // levels 1..levels_, each row-major, one after the other
+    Array<int16_t> minCodes_;  // laid out alike (level 1's entries unused)
     int64_t levelStart_[kTileLevels] = {};
     int64_t levelBlocksX_[kTileLevels] = {};
 };

@@ -252,6 +252,8 @@ struct DemWindowReader::Impl {
     bool hasNodata = false;
     double nodata = 0.0;
     bool float32 = false;
+    bool wholeMetres = false;  // Int16 band in metres, without scale or offset
+    bool nodataInt16 = false;  // the nodata value is one an Int16 sample can hold
     mutable std::mutex readMutex;
 
     // Opens `openPath` (or `path`) and checks everything but the heights, in the order loadDem reports them.
@@ -293,6 +295,8 @@ struct DemWindowReader::Impl {
         nodata = band->GetNoDataValue(&declared);
         hasNodata = declared != 0;
         float32 = band->GetRasterDataType() == GDT_Float32;
+        wholeMetres = band->GetRasterDataType() == GDT_Int16 && metresPerRaw == 1.0 && metresOffset == 0.0;
+        nodataInt16 = hasNodata && nodata == std::trunc(nodata) && nodata >= -32768.0 && nodata <= 32767.0;
     }
 
     // Nodata is compared on stored values; float32 bands often declare it at double precision.
@@ -302,14 +306,69 @@ struct DemWindowReader::Impl {
         return raw == nodata || (float32 && static_cast<float>(raw) == static_cast<float>(nodata));
     }
 
-    void read(int64_t i0, int64_t j0, int64_t w, int64_t h, float* heightsM, uint8_t* valid) const {
+    void checkWindow(int64_t i0, int64_t j0, int64_t w, int64_t h) const {
         if (i0 < 0 || j0 < 0 || w < 1 || h < 1 || i0 + w > width || j0 + h > height)
             throw std::invalid_argument(fmt::format("{}: window {}+{} x {}+{} outside the {} x {} raster", path, i0, w,
                                                     j0, h, width, height));
+    }
+
+    // Reads grid window i0, j0, w x h (checked) as `type` into `raw`, row-major from the raster's first row of
+    // the window; returns that window's first column and row in the raster.
+    std::pair<int64_t, int64_t> readRaw(int64_t i0, int64_t j0, int64_t w, int64_t h, GDALDataType type,
+                                        void* raw) const {
         // The raster window holding the grid's: rows (and columns) are mirrored when the raster runs north to
         // south (or east to west).
         const int64_t column0 = lattice.flipColumns ? width - i0 - w : i0;
         const int64_t row0 = lattice.flipRows ? height - j0 - h : j0;
+        std::lock_guard lock(readMutex);
+        QuietGdalErrors quiet;
+        CPLErrorReset();
+        if (band->RasterIO(GF_Read, static_cast<int>(column0), static_cast<int>(row0), static_cast<int>(w),
+                           static_cast<int>(h), raw, static_cast<int>(w), static_cast<int>(h), type, 0, 0,
+                           nullptr) != CE_None)
+            throw InputError(fmt::format("{}: cannot read rows {}..{} of band 1{}", path, row0, row0 + h - 1,
+                                         gdalReason()));
+        return {column0, row0};
+    }
+
+    void readWholeMetres(int64_t i0, int64_t j0, int64_t w, int64_t h, int16_t* metres, uint8_t* valid) const {
+        if (!wholeMetres) throw std::logic_error(path + ": band 1 does not hold 16-bit integers in metres");
+        checkWindow(i0, j0, w, h);
+        const auto samples = static_cast<size_t>(w * h);
+        thread_local std::vector<int16_t> reused;
+        std::vector<int16_t> own;
+        std::vector<int16_t>& raw = samples <= kReusedSamples ? reused : own;
+        if (raw.size() < samples) raw.resize(samples);
+        readRaw(i0, j0, w, h, GDT_Int16, raw.data());
+        const auto nodataValue = static_cast<int16_t>(nodataInt16 ? nodata : 0.0);
+        std::vector<int16_t> rowBuffer(lattice.flipColumns ? static_cast<size_t>(w) : 0);
+        for (int64_t r = 0; r < h; ++r) {
+            // Grid row j of the window is raster row r, mirrored as in readRaw.
+            const int64_t j = lattice.flipRows ? h - 1 - r : r;
+            const int16_t* from = raw.data() + r * w;
+            int16_t* to = metres + j * w;
+            uint8_t* ok = valid + j * w;
+            if (lattice.flipColumns) {
+                // Rare (rasters stored east to west): reversed first, then taken as any row.
+                std::reverse_copy(from, from + w, rowBuffer.begin());
+                from = rowBuffer.data();
+            }
+            if (!nodataInt16) {
+                std::copy(from, from + w, to);
+                std::fill(ok, ok + w, uint8_t{1});
+                continue;
+            }
+            for (int64_t c = 0; c < w; ++c) {
+                const int16_t value = from[c];
+                const bool good = value != nodataValue;
+                ok[c] = good ? 1 : 0;
+                to[c] = good ? value : int16_t{0};
+            }
+        }
+    }
+
+    void read(int64_t i0, int64_t j0, int64_t w, int64_t h, float* heightsM, uint8_t* valid) const {
+        checkWindow(i0, j0, w, h);
         // As float64, so that every integer and float32 type converts exactly. A tile-sized window reuses this
         // thread's buffer: tiled grids read thousands of them, and a fresh one each time costs page faults.
         const auto samples = static_cast<size_t>(w * h);
@@ -317,16 +376,7 @@ struct DemWindowReader::Impl {
         std::vector<double> own;
         std::vector<double>& raw = samples <= kReusedSamples ? reused : own;
         if (raw.size() < samples) raw.resize(samples);
-        {
-            std::lock_guard lock(readMutex);
-            QuietGdalErrors quiet;
-            CPLErrorReset();
-            if (band->RasterIO(GF_Read, static_cast<int>(column0), static_cast<int>(row0), static_cast<int>(w),
-                               static_cast<int>(h), raw.data(), static_cast<int>(w), static_cast<int>(h), GDT_Float64,
-                               0, 0, nullptr) != CE_None)
-                throw InputError(fmt::format("{}: cannot read rows {}..{} of band 1{}", path, row0, row0 + h - 1,
-                                             gdalReason()));
-        }
+        const auto [column0, row0] = readRaw(i0, j0, w, h, GDT_Float64, raw.data());
         for (int64_t r = 0; r < h; ++r) {
             const int64_t row = row0 + r;
             const int64_t j = (lattice.flipRows ? height - 1 - row : row) - j0;
@@ -378,6 +428,11 @@ std::string DemWindowReader::decodingKey() const {
 }
 void DemWindowReader::read(int64_t i0, int64_t j0, int64_t w, int64_t h, float* heightsM, uint8_t* valid) const {
     impl_->read(i0, j0, w, h, heightsM, valid);
+}
+bool DemWindowReader::wholeMetres() const { return impl_->wholeMetres; }
+void DemWindowReader::readWholeMetres(int64_t i0, int64_t j0, int64_t w, int64_t h, int16_t* metres,
+                                      uint8_t* valid) const {
+    impl_->readWholeMetres(i0, j0, w, h, metres, valid);
 }
 
 namespace {

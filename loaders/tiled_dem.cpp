@@ -79,11 +79,18 @@ std::shared_ptr<const HeightTile> TiledDem::readTile(int64_t key) const {
     const int64_t w = layout_.verticesX(ti), h = layout_.verticesY(tj);
     // This thread's buffers, kept from its last tile (a fresh pair each time costs page faults).
     thread_local std::vector<float> heights;
+    thread_local std::vector<int16_t> metres;
     thread_local std::vector<uint8_t> valid;
-    heights.resize(static_cast<size_t>(w * h));
-    valid.resize(heights.size());
-    reader_->read(x0, y0, w, h, heights.data(), valid.data());
+    valid.resize(static_cast<size_t>(w * h));
     try {
+        // 16-bit heights in metres for a grid of one metre per code go straight to codes; the rest as floats.
+        if (reader_->wholeMetres() && HeightTile::takesWholeMetres(summary_)) {
+            metres.resize(valid.size());
+            reader_->readWholeMetres(x0, y0, w, h, metres.data(), valid.data());
+            return std::make_shared<const HeightTile>(summary_, x0, y0, w, h, metres.data(), valid.data());
+        }
+        heights.resize(valid.size());
+        reader_->read(x0, y0, w, h, heights.data(), valid.data());
         return std::make_shared<const HeightTile>(summary_, x0, y0, w, h, heights.data(), valid.data());
     } catch (const GridError& e) {
         throw InputError(reader_->path() + ": changed while open (" + e.what() + ")");

@@ -26,8 +26,9 @@ namespace {
 // HeightTile).
 class CutTiles : public TileSource {
 public:
-    CutTiles(const HeightGrid& whole, size_t budget)
-        : heights_(whole.copyHeights()), valid_(size_t(whole.width() * whole.height()), 1),
+    // With `wholeMetres`, tiles are made from 16-bit heights as a 16-bit DEM in metres makes them.
+    CutTiles(const HeightGrid& whole, size_t budget, bool wholeMetres = false)
+        : wholeMetres_(wholeMetres), heights_(whole.copyHeights()), valid_(size_t(whole.width() * whole.height()), 1),
           layout_{whole.width(), whole.height()},
           cache_(budget, [this](int64_t key) { return cut(key); }, [](const HeightTile& t) { return t.bytes(); }) {
         for (int64_t j = 0; j < whole.height(); ++j)
@@ -60,9 +61,15 @@ private:
                 z[size_t(j * w + i)] = heights_[size_t((y0 + j) * layout_.width + x0 + i)];
                 ok[size_t(j * w + i)] = valid_[size_t((y0 + j) * layout_.width + x0 + i)];
             }
+        if (wholeMetres_) {
+            std::vector<int16_t> metres(z.size());
+            for (size_t k = 0; k < z.size(); ++k) metres[k] = ok[k] ? int16_t(z[k]) : int16_t{0};
+            return std::make_shared<const HeightTile>(summary_, x0, y0, w, h, metres.data(), ok.data());
+        }
         return std::make_shared<const HeightTile>(summary_, x0, y0, w, h, z.data(), ok.data());
     }
 
+    bool wholeMetres_ = false;
     std::vector<float> heights_;
     std::vector<uint8_t> valid_;
     TileLayout layout_;
@@ -102,11 +109,14 @@ uint64_t bits(double x) { return std::bit_cast<uint64_t>(x); }
 }  // namespace
 
 TEST_CASE("Tiled grid: pyramid bounds at every level equal the whole grid's", "[heightfield][tiles]") {
-    for (Heights kind : {Heights::Float, Heights::WholeMetres, Heights::Tenths}) {
+    for (auto [kind, wholeMetres] : {std::pair{Heights::Float, false}, std::pair{Heights::WholeMetres, false},
+                                     std::pair{Heights::WholeMetres, true}, std::pair{Heights::Tenths, false}}) {
         const HeightGrid whole = testGrid(kind);
-        auto tiles = std::make_shared<CutTiles>(whole, size_t(1) << 30);
+        auto tiles = std::make_shared<CutTiles>(whole, size_t(1) << 30, wholeMetres);
+        if (wholeMetres) REQUIRE(HeightTile::takesWholeMetres(tiles->summary()));
         const HeightGrid tiled(tiles->summary(), 10.0, 10.0, tiles);
-        INFO("storage " << int(whole.storage()) << " scale " << whole.codeScale());
+        INFO("storage " << int(whole.storage()) << " scale " << whole.codeScale() << " from 16-bit metres "
+                        << wholeMetres);
         REQUIRE(tiled.tiled());
         REQUIRE(tiled.storage() == whole.storage());
         REQUIRE(tiled.pyramidLevels() == whole.pyramidLevels());
@@ -135,7 +145,7 @@ TEST_CASE("Tiled grid: rays through a cache of two tiles trace exactly as throug
         const HeightGrid whole = testGrid(kind);
         // Room for two tiles: every tile change past the second evicts one.
         const size_t tileBytes = CutTiles(whole, size_t(1) << 30).tile(0, 0)->bytes();
-        auto tiles = std::make_shared<CutTiles>(whole, 2 * tileBytes + tileBytes / 2);
+        auto tiles = std::make_shared<CutTiles>(whole, 2 * tileBytes + tileBytes / 2, kind == Heights::WholeMetres);
         const HeightGrid tiled(tiles->summary(), 10.0, 10.0, tiles);
         std::mt19937_64 rng(11);
         std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -200,6 +210,34 @@ TEST_CASE("Tiled grid: rays through a cache of two tiles trace exactly as throug
         CHECK(bundleHits > 20);
         CHECK(bundleDiffer == 0);
     }
+}
+
+TEST_CASE("Tiled grid: a tile whose heights the summary cannot code is refused from floats and from 16-bit metres",
+          "[heightfield][tiles]") {
+    const int64_t w = 9, h = 7;
+    std::vector<float> z(size_t(w * h));
+    for (size_t k = 0; k < z.size(); ++k) z[k] = float(20000 + int(k % 11));
+    GridSummaryBuilder builder(w, h, 1.0);
+    builder.addRows(0, h, z.data(), nullptr);
+    const GridSummary summary = builder.finish();
+    REQUIRE(HeightTile::takesWholeMetres(summary));
+    std::vector<int16_t> metres(z.begin(), z.end());
+    std::vector<uint8_t> valid(z.size(), 1);
+    // As summarised: the same codes either way.
+    const HeightTile a(summary, 0, 0, w, h, z.data(), valid.data()), b(summary, 0, 0, w, h, metres.data(), valid.data());
+    for (int64_t j = 0; j < h; ++j)
+        for (int64_t i = 0; i < w; ++i) CHECK(a.at(i, j) == b.at(i, j));
+    // A height 50 km below the summary's range has no code: refused, naming the vertex.
+    z[size_t(2 * w + 3)] = -30000.0f;
+    metres[size_t(2 * w + 3)] = -30000;
+    CHECK_THROWS_WITH(HeightTile(summary, 0, 0, w, h, z.data(), valid.data()),
+                      Catch::Contains("vertex (3, 2): height -30000") && Catch::Contains("no int16 code"));
+    CHECK_THROWS_WITH(HeightTile(summary, 0, 0, w, h, metres.data(), valid.data()),
+                      Catch::Contains("vertex (3, 2): height -30000") && Catch::Contains("no int16 code"));
+    // The same value at a nodata vertex is no height: the lowest code, and no error.
+    valid[size_t(2 * w + 3)] = 0;
+    CHECK_NOTHROW(HeightTile(summary, 0, 0, w, h, metres.data(), valid.data()));
+    CHECK_FALSE(HeightTile(summary, 0, 0, w, h, metres.data(), valid.data()).vertexValid(3, 2));
 }
 
 TEST_CASE("Tiled grid: what needs the whole grid is refused", "[heightfield][tiles]") {

@@ -44,6 +44,17 @@ std::string compareWindow(const DemWindowReader& reader, const HeightGrid& grid,
                 return "height differs at vertex " + std::to_string(i0 + i) + "," + std::to_string(j0 + j) + ": " +
                        std::to_string(z[k]) + " against " + std::to_string(grid.at(i0 + i, j0 + j));
         }
+    if (!reader.wholeMetres()) return "";
+    // The same window as stored 16-bit metres: the same flags, the same heights, 0 at nodata.
+    std::vector<int16_t> metres(size_t(w * h), -1);
+    std::vector<uint8_t> flags(size_t(w * h), 7);
+    reader.readWholeMetres(i0, j0, w, h, metres.data(), flags.data());
+    for (size_t k = 0; k < metres.size(); ++k) {
+        if (flags[k] != valid[k]) return "whole metres: validity differs at window sample " + std::to_string(k);
+        if (float(metres[k]) != z[k])
+            return "whole metres: height differs at window sample " + std::to_string(k) + ": " +
+                   std::to_string(metres[k]) + " against " + std::to_string(z[k]);
+    }
     return "";
 }
 
@@ -84,6 +95,53 @@ TEST_CASE("DEM windows: every window of a real DEM holds the whole load's height
     checkWindows(sample("landfire-storm-lake-mt-utm12n-int16-small-nodata.tif"));
     checkWindows(sample("N44W072.srtm3-white-mountains-nh.hgt"));
     checkWindows(sample("srtm3-n43e007-nice-maritime-alps-coast-geographic-int16.tif"));
+}
+
+TEST_CASE("DEM windows: 16-bit bands in metres are read without conversion, others as floats", "[loaders][tiles]") {
+    CHECK(DemWindowReader(sample("usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif")).wholeMetres());
+    CHECK(DemWindowReader(sample("N44W072.srtm3-white-mountains-nh.hgt")).wholeMetres());
+    TempDir dir("dem-window-metres");
+    GDALAllRegister();
+    GDALDriver* tiff = GetGDALDriverManager()->GetDriverByName("GTiff");
+    // A scale, an offset or a float band takes the float path; a nodata value no Int16 sample can hold marks
+    // nothing.
+    struct Case {
+        const char* name;
+        GDALDataType type;
+        double scale, offset, nodata;
+        bool whole;
+    };
+    for (const Case& c : {Case{"scaled.tif", GDT_Int16, 0.1, 0.0, -9999.0, false},
+                          Case{"offset.tif", GDT_Int16, 1.0, 100.0, -9999.0, false},
+                          Case{"float.tif", GDT_Float32, 1.0, 0.0, -9999.0, false},
+                          Case{"uint16.tif", GDT_UInt16, 1.0, 0.0, 0.0, false},
+                          Case{"far-nodata.tif", GDT_Int16, 1.0, 0.0, 40000.0, true},
+                          Case{"fraction-nodata.tif", GDT_Int16, 1.0, 0.0, 7.5, true},
+                          Case{"nodata.tif", GDT_Int16, 1.0, 0.0, 7.0, true}}) {
+        INFO(c.name);
+        const std::string path = dir.file(c.name);
+        GDALDatasetUniquePtr ds(tiff->Create(path.c_str(), 41, 19, 1, c.type, nullptr));
+        std::array<double, 6> gt{500000, 30, 0, 4000000, 0, -30};
+        ds->SetGeoTransform(gt.data());
+        std::vector<double> z(41 * 19);
+        for (size_t k = 0; k < z.size(); ++k) z[k] = double(k * 13 % 300);
+        GDALRasterBand* band = ds->GetRasterBand(1);
+        band->SetScale(c.scale);
+        band->SetOffset(c.offset);
+        band->SetNoDataValue(c.nodata);
+        REQUIRE(band->RasterIO(GF_Write, 0, 0, 41, 19, z.data(), 41, 19, GDT_Float64, 0, 0, nullptr) == CE_None);
+        ds.reset();
+        const DemWindowReader reader(path);
+        CHECK(reader.wholeMetres() == c.whole);
+        const LoadedDem dem = loadDem(path);
+        CHECK(compareWindow(reader, dem.grid, 0, 0, 41, 19) == "");
+        CHECK(compareWindow(reader, dem.grid, 3, 2, 30, 11) == "");
+        if (!c.whole) {
+            std::vector<int16_t> metres(4);
+            std::vector<uint8_t> flags(4);
+            CHECK_THROWS_AS(reader.readWholeMetres(0, 0, 2, 2, metres.data(), flags.data()), std::logic_error);
+        }
+    }
 }
 
 TEST_CASE("DEM windows: rasters stored south-up and east-to-west are read in grid order", "[loaders][tiles]") {
