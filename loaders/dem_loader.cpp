@@ -523,6 +523,12 @@ LoadedDem loadDem(const std::string& path, const DemLoadOptions& options) {
         return loadPngHeightMap(path, options);
     }
     if (options.tileCacheBytes > 0.0) return openTiledDem(path, size_t(options.tileCacheBytes), options);
+    if (options.tilesUnderRanks && ranks::size() > 1) {
+        // The ranks on this machine share its memory limit.
+        const double share = memoryLimitBytes(options.maxBytes) / double(ranks::sizeOnThisMachine());
+        const double cacheBytes = std::max(kMinTileCacheBytes, (share - currentResidentBytes()) / 4.0);
+        return openTiledDem(path, size_t(cacheBytes), options);
+    }
     // A raster too large to hold whole is held as tiles, with a quarter of the memory left for their cache.
     try {
         return loadWithGdal(path, options);

@@ -100,6 +100,39 @@ TEST_CASE("MPI: two ranks render a picture's bytes as one process does", "[cli][
     CHECK(rays(two.err) == rays(one.err));
 }
 
+TEST_CASE("MPI: ranks hold a DEM that fits as tiles when the job allows, and write one process's bytes",
+          "[cli][mpi]") {
+    if (kSanitizedBuild) return;
+    TempDir dir("mpi-tiles");
+    // One process holds these DEMs whole; two ranks each read only the tiles their part reaches, except where
+    // the job needs the whole grid (the curved earth's lowered copy, vertical exaggeration, sky view).
+    const struct {
+        std::string args;
+        std::string out;
+        bool tiles;
+    } jobs[] = {
+        {"render '" + kHelens + "' --size 240x160 --sky-samples 2 --threads 1", "render.png", true},
+        {"render '" + kHelens + "' --size 240x160 --sky-samples 0 --threads 1 --exaggeration 2", "tall.png", false},
+        {"viewshed '" + kHelens + "' --observer 562000,5115000 --curvature-coeff 0 --threads 1", "flat.tif", true},
+        {"viewshed '" + kHelens + "' --observer 562000,5115000 --threads 1", "curved.tif", false},
+        {"svf '" + kHelens + "' --directions 8 --max-distance 300 --threads 1", "svf.tif", false},
+    };
+    for (const auto& job : jobs) {
+        INFO(job.args);
+        const CommandResult one = runTerracast(job.args + " -o '" + dir.file("one-" + job.out) + "'");
+        INFO(one.err);
+        REQUIRE(one.exitCode == 0);
+        CHECK(one.err.find("tiles: ") == std::string::npos);
+        const CommandResult two = mpirun(dir, "-n 2 " + cli() + " " + job.args + " -o two-" + job.out);
+        INFO(two.err);
+        REQUIRE(two.exitCode == 0);
+        CHECK((two.err.find("tiles: ") != std::string::npos) == job.tiles);
+        const std::string a = slurp(dir.file("one-" + job.out)), b = slurp(dir.file("two-" + job.out));
+        CHECK(a.size() > 1000);
+        CHECK(a == b);
+    }
+}
+
 TEST_CASE("MPI: a rank that fails ends every rank without an output", "[cli][mpi]") {
     if (kSanitizedBuild) return;
     TempDir dir("mpi-fail");

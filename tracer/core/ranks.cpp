@@ -50,6 +50,17 @@ void start() {
 int rank() { return myRank; }
 int size() { return rankCount; }
 
+int sizeOnThisMachine() {
+    for (const char* name : {"OMPI_COMM_WORLD_LOCAL_SIZE", "MPI_LOCALNRANKS"}) {
+        const char* value = std::getenv(name);
+        if (value == nullptr) continue;
+        char* end = nullptr;
+        const long n = std::strtol(value, &end, 10);
+        if (end != value && *end == '\0' && n >= 1 && n <= rankCount) return int(n);
+    }
+    return rankCount;
+}
+
 void barrier() {
     if (many()) api->barrier();
 }

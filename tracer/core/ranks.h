@@ -21,6 +21,9 @@ void start();
 int rank();
 int size();
 inline bool leader() { return rank() == 0; }
+// The ranks of the launch on this machine, which share its memory: from the launcher's environment (Open MPI's
+// OMPI_COMM_WORLD_LOCAL_SIZE, MPICH's MPI_LOCALNRANKS), else size().
+int sizeOnThisMachine();
 
 // Collective operations: every rank must call them, in the same order.
 void barrier();

@@ -23,7 +23,7 @@
 
 namespace terracast {
 
-LoadedDem loadDemSource(const DemSource& source, const RunListener& listener) {
+LoadedDem loadDemSource(const DemSource& source, const RunListener& listener, bool takesTiles) {
     DemLoadOptions lo;
     lo.maxBytes = source.maxMemoryBytes;
     lo.imageCellSizeM = source.imageCellSizeM;
@@ -31,6 +31,7 @@ LoadedDem loadDemSource(const DemSource& source, const RunListener& listener) {
     lo.tileCacheBytes = source.tileCacheBytes;
     // Under mpirun every command that gets here runs on every rank (cli/main.cpp refuses the others).
     lo.sharedByRanks = ranks::size() > 1;
+    lo.tilesUnderRanks = takesTiles;
     LoadedDem dem = loadDem(source.path, lo);
     for (const auto& w : dem.warnings) listener.warn(w);
     return dem;
@@ -222,7 +223,8 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     checkSkySamples(o.skySamples);
     if (!(o.haze >= 0.0 && o.haze <= 1000.0))
         throw InputError(fmt::format("--haze: expected a number in 0..1000, found {}", o.haze));
-    LoadedDem dem = loadDemSource(o.dem, listener);
+    // Vertical exaggeration rescales the whole grid; otherwise the render reads only the tiles it sees.
+    LoadedDem dem = loadDemSource(o.dem, listener, o.exaggeration == 1.0);
     HeightGrid& grid = dem.grid;
     double sunAzimuthDeg = o.sunAzimuthDeg, sunElevationDeg = o.sunElevationDeg;
     applySunTime(o, dem, sunAzimuthDeg, sunElevationDeg, listener);

@@ -26,8 +26,10 @@ struct DemSource {
     double tileCacheBytes = 0.0;    // > 0: hold the DEM as tiles with a cache this large (DemLoadOptions)
 };
 
-// Loads the DEM, passing its warnings (assumed units, large geographic extents) to the listener.
-LoadedDem loadDemSource(const DemSource& source, const RunListener& listener);
+// Loads the DEM, passing its warnings (assumed units, large geographic extents) to the listener. A job that
+// never needs the whole grid in memory says so with `takesTiles`: under mpirun each rank then holds the DEM as
+// tiles and reads only those its part of the work reaches (DemLoadOptions::tilesUnderRanks).
+LoadedDem loadDemSource(const DemSource& source, const RunListener& listener, bool takesTiles = false);
 
 // `info`: size, CRS, cell size, heights, nodata and memory, as lines of text.
 std::string demInfoReport(const DemSource& source, const RunListener& listener);

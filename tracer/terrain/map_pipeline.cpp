@@ -71,7 +71,7 @@ void writeShadowSeries(const ShadowMapOptions& o, const RunListener& listener) {
     if (o.sunSizeDeg != 0.0) throw InputError("shadow: --sun-size applies to one sun; --sun-time ranges use a point sun");
     const HorizonSearch search = searchFrom(o.maxDistanceM, o.curvatureCoeff, "shadow");
     const CellMethod method = requireDirectMethod(o.method, "shadow");
-    const LoadedDem dem = loadDemSource(o.dem, listener);
+    const LoadedDem dem = loadDemSource(o.dem, listener, true);
     std::vector<glm::dvec2> suns;
     RasterLabels labels;
     std::string times;
@@ -195,7 +195,7 @@ void writeShadowMap(const ShadowMapOptions& o, const RunListener& listener) {
         throw InputError(fmt::format("--sun-size: expected degrees in [0, 30), found {}", o.sunSizeDeg));
     const HorizonSearch search = searchFrom(o.maxDistanceM, o.curvatureCoeff, "shadow");
     const CellMethod method = requireDirectMethod(o.method, "shadow");
-    const LoadedDem dem = loadDemSource(o.dem, listener);
+    const LoadedDem dem = loadDemSource(o.dem, listener, true);
     checkRasterJob(dem, o.dem.maxMemoryBytes, 1, o.sunSizeDeg == 0.0 ? RasterType::Byte : RasterType::Float32, 0.0,
                    "a shadow mask");
     listener.at("shadow");
@@ -230,7 +230,7 @@ void writeHorizonMap(const HorizonMapOptions& o, const RunListener& listener) {
         if (!std::isfinite(a)) throw InputError(fmt::format("horizon --azimuth: expected degrees, found {}", a));
     const HorizonSearch search = searchFrom(o.maxDistanceM, o.curvatureCoeff, "horizon");
     const CellMethod method = requireDirectMethod(o.method, "horizon");
-    const LoadedDem dem = loadDemSource(o.dem, listener);
+    const LoadedDem dem = loadDemSource(o.dem, listener, true);
     listener.at("horizon");
     const auto start = std::chrono::steady_clock::now();
     std::vector<double> azimuths;
@@ -307,7 +307,7 @@ void writeInsolationMap(const InsolationMapOptions& o, const RunListener& listen
     s.method = requireDirectMethod(o.method, "insolation");
     s.sky.linkeTurbidity = o.linkeTurbidity;
     s.sky.albedo = o.albedo;
-    const LoadedDem dem = loadDemSource(o.dem, listener);
+    const LoadedDem dem = loadDemSource(o.dem, listener, true);
     const GridLonLat places(dem.geo, o.dem.path + ": insolation");
     // The sun's positions seen from vertex position (col, row): each computed day starts at local mean solar
     // midnight there; its steps sample the middle of each interval (the last one shorter when the step does not
@@ -427,7 +427,8 @@ void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) 
         throw InputError(fmt::format("viewshed --max-distance: expected metres >= 0, found {}", o.maxDistanceM));
     ViewshedSettings s;
     s.method = requireDirectMethod(o.method, "viewshed");
-    const LoadedDem dem = loadDemSource(o.dem, listener);
+    // The curved earth traces a lowered copy of the whole grid; a flat one reads only the tiles it needs.
+    const LoadedDem dem = loadDemSource(o.dem, listener, o.curvatureCoeff == 0.0);
     // The observers: one from --observer, or every point of --observers.
     std::vector<SitePoint> sites;
     if (!o.observersFile.empty()) {
