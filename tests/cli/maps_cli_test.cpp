@@ -1,5 +1,6 @@
 // The map commands end to end: GeoTIFFs that carry the DEM's CRS and geotransform, read back with GDAL.
 #include "support/run_command.h"
+#include "support/temp_dir.h"
 
 #include <catch2/catch.hpp>
 #include <fmt/format.h>
@@ -9,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <vector>
 
 using namespace terracast::testing;
 namespace fs = std::filesystem;
@@ -385,4 +387,47 @@ TEST_CASE("CLI: viewshed --values height and angle write what a target needs and
     CHECK(bad.exitCode != 0);
     CHECK(bad.err.find("--values: expected visible, angle or height, found 'depth'") != std::string::npos);
     fs::remove_all(dir);
+}
+
+TEST_CASE("CLI: the map view GeoTIFF is written a tile at a time, from a DEM held whole or as tiles, with the "
+          "picture's pixels",
+          "[cli][maps][tiles]") {
+    TempDir dir("map-view-tiles");
+    const std::string args = "render '" + kDem + "' --view map --sky-samples 4";
+    const auto whole = runTerracast(args + " -o '" + dir.file("whole.tif") + "'");
+    INFO(whole.err);
+    REQUIRE(whole.exitCode == 0);
+    CHECK(whole.err.find("output tile") != std::string::npos);
+    // Held as tiles behind a cache of a few tiles: the same bytes.
+    const auto tiled = runTerracast(args + " --tile-cache 500K -o '" + dir.file("tiled.tif") + "'");
+    INFO(tiled.err);
+    REQUIRE(tiled.exitCode == 0);
+    CHECK(tiled.err.find("tiles: ") != std::string::npos);
+    CHECK(slurp(dir.file("whole.tif")) == slurp(dir.file("tiled.tif")));
+    // A cloud-optimized layout, and the same colours as the PNG picture of the same view (rendered whole, rows
+    // north first in both files).
+    GDALAllRegister();
+    std::unique_ptr<GDALDataset> tif(GDALDataset::Open(dir.file("whole.tif").c_str(), GDAL_OF_RASTER));
+    REQUIRE(tif);
+    const char* layout = tif->GetMetadataItem("LAYOUT", "IMAGE_STRUCTURE");
+    CHECK(std::string(layout ? layout : "") == "COG");
+    const auto png = runTerracast(args + " -o '" + dir.file("view.png") + "'");
+    REQUIRE(png.exitCode == 0);
+    std::unique_ptr<GDALDataset> pic(GDALDataset::Open(dir.file("view.png").c_str(), GDAL_OF_RASTER));
+    REQUIRE(pic);
+    const int w = tif->GetRasterXSize(), h = tif->GetRasterYSize();
+    REQUIRE(pic->GetRasterXSize() == w);
+    REQUIRE(pic->GetRasterYSize() == h);
+    int64_t differ = 0, lit = 0;
+    for (int b = 1; b <= 3; ++b) {
+        std::vector<uint8_t> a(size_t(w) * size_t(h)), c(a.size());
+        REQUIRE(tif->GetRasterBand(b)->RasterIO(GF_Read, 0, 0, w, h, a.data(), w, h, GDT_Byte, 0, 0) == CE_None);
+        REQUIRE(pic->GetRasterBand(b)->RasterIO(GF_Read, 0, 0, w, h, c.data(), w, h, GDT_Byte, 0, 0) == CE_None);
+        for (size_t k = 0; k < a.size(); ++k) {
+            differ += a[k] != c[k];
+            lit += a[k] > 40;
+        }
+    }
+    CHECK(lit > int64_t(w) * h);
+    CHECK(differ == 0);
 }

@@ -116,6 +116,7 @@ TEST_CASE("MPI: ranks hold a DEM that fits as tiles when the job allows, and wri
         {"viewshed '" + kHelens + "' --observer 562000,5115000 --curvature-coeff 0 --threads 1", "flat.tif", true},
         {"viewshed '" + kHelens + "' --observer 562000,5115000 --threads 1", "curved.tif", false},
         {"svf '" + kHelens + "' --directions 8 --max-distance 300 --threads 1", "svf.tif", false},
+        {"render '" + kHelens + "' --view map --sky-samples 2 --threads 1", "map.tif", true},
     };
     for (const auto& job : jobs) {
         INFO(job.args);
@@ -151,6 +152,7 @@ TEST_CASE("MPI: a rank that fails ends every rank without an output", "[cli][mpi
     CHECK_FALSE(fs::exists(dir.file("s.png")));
     const CommandResult map = mpirun(dir, "-n 2 " + cli() + " render '" + kHelens + "' -o m.png --view map");
     CHECK(map.exitCode == 2);
-    CHECK(map.err.find("render --view map: runs as one process") != std::string::npos);
+    CHECK(map.err.find("render --view map: a PNG, or a --scale other than 1, runs as one process") !=
+          std::string::npos);
     CHECK_FALSE(fs::exists(dir.file("m.png")));
 }

@@ -14,6 +14,7 @@
 #include "tracer/terrain/maps.h"
 #include "tracer/terrain/memory_model.h"
 #include "tracer/terrain/surface.h"
+#include "tracer/terrain/tiled_product.h"
 
 #include <fmt/format.h>
 
@@ -141,16 +142,20 @@ void checkSkySamples(int skySamples) {
 
 // `render --view map`: the top-down shaded relief, as a GeoTIFF on the DEM's georeference or a PNG.
 void renderMap(const DemRenderOptions& o, const RunListener& listener) {
-    if (ranks::size() > 1)
-        throw InputError("render --view map: runs as one process; under mpirun only perspective renders and the map "
-                         "products share their work over the ranks");
+    // A GeoTIFF at scale 1 on a surface through the vertices is a per-vertex product on the DEM's own grid,
+    // written a tile at a time (and over the ranks); a PNG or another scale is one picture held whole.
+    const bool onGrid = lowerExtension(o.output) != ".png" && o.scale == 1.0 &&
+                        requireDirectMethod(o.method, "--view map") != CellMethod::Nearest;
+    if (ranks::size() > 1 && !onGrid)
+        throw InputError("render --view map: a PNG, or a --scale other than 1, runs as one process; under mpirun the "
+                         "map view is shared over the ranks as a GeoTIFF at scale 1");
     checkOutputPath(o.output, o.dem.path, {".tif", ".tiff", ".png"});
     checkViewValues(o.exaggeration, o.sunElevationDeg);
     if (!(o.scale > 0.0 && o.scale <= 16.0)) throw InputError(fmt::format("--scale: expected (0, 16], found {}", o.scale));
     if (!(o.hillshadeBlend >= 0.0 && o.hillshadeBlend <= 1.0))
         throw InputError(fmt::format("--hillshade-blend: expected 0..1, found {}", o.hillshadeBlend));
     checkSkySamples(o.skySamples);
-    LoadedDem dem = loadDemSource(o.dem, listener);
+    LoadedDem dem = loadDemSource(o.dem, listener, onGrid && o.exaggeration == 1.0);
     double sunAzimuthDeg = o.sunAzimuthDeg, sunElevationDeg = o.sunElevationDeg;
     applySunTime(o, dem, sunAzimuthDeg, sunElevationDeg, listener);
     TerrainRenderSettings view =
@@ -165,6 +170,28 @@ void renderMap(const DemRenderOptions& o, const RunListener& listener) {
     m.method = requireDirectMethod(o.method, "--view map");
     m.threads = o.threads;
     m.progress = listener.progress;
+    if (onGrid) {
+        // 8-bit sRGB in three bands and an alpha band (0 over holes), on the DEM's own grid, a tile at a time.
+        checkRasterJob(dem, o.dem.maxMemoryBytes, 4, RasterType::Byte, 0.0, "the map view");
+        listener.at("map view");
+        const auto start = std::chrono::steady_clock::now();
+        VertexProduct product;
+        product.bands = 4;
+        product.type = RasterType::Byte;
+        product.lastBandIsAlpha = true;
+        product.labels.bands = {"red", "green", "blue", "alpha: 255 over the terrain, 0 over nodata"};
+        product.compute = [make = mapViewMaker(dem.grid, m)](const VertexWindow& w, const MapProgress& p) {
+            MapRaster r = make(w, p);
+            for (size_t k = 0; k < r.values.size(); k += 4) {
+                for (size_t b = 0; b < 3; ++b) r.values[k + b] = 255.0f * srgbFromLinear(r.values[k + b]);
+                r.values[k + 3] = r.values[k + 3] > 0.0f ? 255.0f : 0.0f;
+            }
+            return r;
+        };
+        const ProductCount count = writeVertexProduct(o.output, false, dem, std::move(product), listener);
+        tellRasterSummary(listener, "map view", o.output, count, count.rays, "sun and sky rays", start);
+        return;
+    }
     {
         // The film and its coverage mask, then either the PNG's copy and encoding or the GeoTIFF's four float
         // bands; the output size follows renderMapView's (scale times the DEM's vertices).

@@ -374,6 +374,57 @@ VertexWindow VertexWindow::within(const HeightGrid& grid) const {
     return *this;
 }
 
+namespace {
+
+// The top-down view's light at one surface point (renderMapView, mapViewMaker): Lambert sun with cast shadows,
+// sky visibility from cosine-weighted directions keyed by the pixel (px, py) (counter-based random numbers: the
+// same picture for any thread count and any tiling), blended with a plain hillshade. At a vertex (`vertex`
+// set) directions are tested as `shadow` tests them; elsewhere from the surface point `hit`.
+struct MapShade {
+    glm::vec3 colour{0.0f};
+    int64_t shadowRays = 0;
+    int64_t skyRays = 0;
+};
+
+MapShade shadeMapPoint(const HeightGrid& grid, const MapViewSettings& s, const glm::dvec3& toSun, int64_t px,
+                       int64_t py, const glm::dvec3& point, const glm::dvec3& normal, const VertexView* vertex,
+                       const HeightFieldHit* hit) {
+    MapShade out;
+    const double lambert = std::max(0.0, glm::dot(normal, toSun));
+    double lit = toSun.z > 0.0 ? 1.0 : 0.0;
+    if (s.castShadows && lambert > 0.0) {
+        // At a vertex as `shadow` decides (a sun below the horizontal can light a peak); elsewhere the sun must
+        // also be above the horizontal.
+        ++out.shadowRays;
+        if (vertex) lit = vertex->blocked(toSun) ? 0.0 : 1.0;
+        else if (blockedFrom(grid, *hit, toSun, s.method)) lit = 0.0;
+    }
+    double sky = 1.0;
+    if (s.skySamples > 0) {
+        const RandomStream random(s.seed, uint64_t(px), uint64_t(py));
+        const Frame frame = Frame::around(normal);
+        int open = 0;
+        for (int k = 0; k < s.skySamples; ++k) {
+            const glm::dvec3 d = frame.toWorld(squareToCosineHemisphere(random.uniform2(2 * uint64_t(k))));
+            // Sky directions take the occlusion walk from the vertex (the same verdicts but where a direction
+            // passes exactly through a vertex between holes), which is faster.
+            open += vertex ? !blockedFromVertex(grid, px, grid.height() - 1 - py, d, s.method)
+                           : !blockedFrom(grid, *hit, d, s.method);
+        }
+        out.skyRays += s.skySamples;
+        sky = double(open) / double(s.skySamples);
+    }
+    const glm::vec3 albedo =
+        s.colourRamp ? elevationAlbedo(point.z, grid.minHeightM(), grid.maxHeightM()) : glm::vec3(0.8f);
+    const double shade = double(s.sun.intensity) * lambert * lit + double(s.ambient) * sky;
+    const double plain = double(s.sun.intensity) * lambert + double(s.ambient);
+    const double value = (1.0 - s.hillshadeBlend) * shade + s.hillshadeBlend * plain;
+    out.colour = albedo * float(value);
+    return out;
+}
+
+}  // namespace
+
 MapImage renderMapView(const HeightGrid& grid, const MapViewSettings& s) {
     const int w = std::max(1, int(std::lround(double(grid.width()) * s.scale)));
     const int h = std::max(1, int(std::lround(double(grid.height()) * s.scale)));
@@ -409,42 +460,12 @@ MapImage renderMapView(const HeightGrid& grid, const MapViewSettings& s) {
                     point = hit->pointM;
                     normal = hit->normal;
                 }
-                auto isBlocked = [&](const glm::dvec3& d) {
-                    return vertex ? vertex->blocked(d) : blockedFrom(grid, *hit, d, s.method);
-                };
                 image.covered[size_t(py) * size_t(w) + size_t(px)] = 1;
-                const double lambert = std::max(0.0, glm::dot(normal, toSun));
-                double lit = toSun.z > 0.0 ? 1.0 : 0.0;
-                if (s.castShadows && lambert > 0.0) {
-                    // At a vertex as `shadow` decides (a sun below the horizontal can light a peak); elsewhere the
-                    // sun must also be above the horizontal.
-                    ++nShadow;
-                    if (vertex) lit = vertex->blocked(toSun) ? 0.0 : 1.0;
-                    else if (isBlocked(toSun)) lit = 0.0;
-                }
-                double sky = 1.0;
-                if (s.skySamples > 0) {
-                    // Cosine-weighted directions about the normal, from counter-based random numbers keyed by the
-                    // pixel: the same picture for any thread count.
-                    const RandomStream random(s.seed, px, py);
-                    const Frame frame = Frame::around(normal);
-                    int open = 0;
-                    for (int k = 0; k < s.skySamples; ++k) {
-                        const glm::dvec3 d = frame.toWorld(squareToCosineHemisphere(random.uniform2(2 * uint64_t(k))));
-                        // Sky directions take the occlusion walk from the vertex (the same verdicts but where
-                        // a direction passes exactly through a vertex between holes), which is faster.
-                        open += vertex ? !blockedFromVertex(grid, px, grid.height() - 1 - py, d, s.method)
-                                       : !blockedFrom(grid, *hit, d, s.method);
-                    }
-                    nSky += s.skySamples;
-                    sky = double(open) / double(s.skySamples);
-                }
-                const glm::vec3 albedo = s.colourRamp ? elevationAlbedo(point.z, grid.minHeightM(), grid.maxHeightM())
-                                                      : glm::vec3(0.8f);
-                const double shade = double(s.sun.intensity) * lambert * lit + double(s.ambient) * sky;
-                const double plain = double(s.sun.intensity) * lambert + double(s.ambient);
-                const double value = (1.0 - s.hillshadeBlend) * shade + s.hillshadeBlend * plain;
-                image.film.set(px, py, albedo * float(value));
+                const MapShade shade = shadeMapPoint(grid, s, toSun, px, py, point, normal,
+                                                     vertex ? &*vertex : nullptr, hit ? &*hit : nullptr);
+                nShadow += shade.shadowRays;
+                nSky += shade.skyRays;
+                image.film.set(px, py, shade.colour);
             }
         shadowRays += nShadow;
         skyRays += nSky;
@@ -457,6 +478,31 @@ MapImage renderMapView(const HeightGrid& grid, const MapViewSettings& s) {
     image.shadowRays = shadowRays;
     image.skyRays = skyRays;
     return image;
+}
+
+std::function<MapRaster(const VertexWindow&, const MapProgress&)> mapViewMaker(const HeightGrid& grid,
+                                                                               const MapViewSettings& s) {
+    if (!exactAtVertices(s.method))
+        throw GridError("the map view on the DEM's own grid needs a surface through the vertices, not nearest");
+    return [&grid, s](const VertexWindow& window, const MapProgress& progress) {
+        const glm::dvec3 toSun = s.sun.direction();
+        // Rays vary per vertex (no sun ray where the surface faces away): counted, and reported as counted.
+        std::atomic<int64_t> rays{0};
+        MapProgress counted;
+        if (progress) counted = [&](double f, int64_t) { progress(f, rays.load()); };
+        return perVertexBands(grid, window, 4, s.threads, counted, 0, [&](int64_t i, int64_t j, float* out) {
+            out[0] = out[1] = out[2] = out[3] = 0.0f;
+            if (!vertexOnSurface(grid, i, j)) return;
+            const VertexView vertex(grid, i, j, s.method);
+            const glm::dvec3 point{double(i) * grid.cellSizeXM(), double(j) * grid.cellSizeYM(), double(grid.at(i, j))};
+            // The pixel renderMapView gives this vertex at scale 1: column i, row height - 1 - j from the north.
+            const MapShade shade = shadeMapPoint(grid, s, toSun, i, grid.height() - 1 - j, point,
+                                                 vertexNormal(grid, i, j), &vertex, nullptr);
+            rays += shade.shadowRays + shade.skyRays;
+            for (int b = 0; b < 3; ++b) out[b] = shade.colour[b];
+            out[3] = 1.0f;
+        });
+    };
 }
 
 }  // namespace terracast

@@ -167,4 +167,11 @@ struct MapImage {
 // extent), found by a vertical probe, with rays spawned off it.
 MapImage renderMapView(const HeightGrid& grid, const MapViewSettings& settings);
 
+// The map view at scale 1 as a per-vertex product: for a window of vertices, four bands per vertex, the linear
+// colour renderMapView gives its pixel (red, green, blue) and 1 where the surface passes through the vertex,
+// all 0 over holes. For output tile by tile (and over the ranks); refers to `grid`, which must outlive it.
+// Throws GridError for the nearest method (no surface through the vertices).
+std::function<MapRaster(const VertexWindow&, const MapProgress&)> mapViewMaker(const HeightGrid& grid,
+                                                                               const MapViewSettings& settings);
+
 }  // namespace terracast

@@ -40,8 +40,9 @@ ProductCount writeVertexProduct(const std::string& path, bool resume, const Load
     layout.width = dem.grid.width();
     layout.height = dem.grid.height();
     layout.bands = product.bands;
-    layout.hasNoData = true;
+    layout.hasNoData = !product.lastBandIsAlpha;
     layout.noDataValue = product.noData;
+    layout.lastBandIsAlpha = product.lastBandIsAlpha;
     layout.bandDescriptions = std::move(product.labels.bands);
     layout.bandUnits = std::move(product.labels.units);
     layout.metadata = std::move(product.labels.metadata);

@@ -30,6 +30,8 @@ struct VertexProduct {
     double noData = -9999.0;
     RasterLabels labels;
     std::function<MapRaster(const VertexWindow&, const MapProgress&)> compute;
+    // The last band is an alpha band (0 over holes) rather than a nodata value: Byte RGBA pictures.
+    bool lastBandIsAlpha = false;
 };
 
 // What writing a product counted: vertices with a value and rays in the tiles computed by this run, and the
