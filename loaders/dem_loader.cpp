@@ -306,6 +306,16 @@ struct DemWindowReader::Impl {
         return raw == nodata || (float32 && static_cast<float>(raw) == static_cast<float>(nodata));
     }
 
+    // A buffer of `samples` values for one window: this thread's own for tile-sized windows (tiled grids read
+    // thousands of them, and a fresh buffer each time costs page faults), else `own`.
+    template <class T>
+    static std::vector<T>& windowBuffer(size_t samples, std::vector<T>& own) {
+        thread_local std::vector<T> reused;
+        std::vector<T>& raw = samples <= kReusedSamples ? reused : own;
+        if (raw.size() < samples) raw.resize(samples);
+        return raw;
+    }
+
     void checkWindow(int64_t i0, int64_t j0, int64_t w, int64_t h) const {
         if (i0 < 0 || j0 < 0 || w < 1 || h < 1 || i0 + w > width || j0 + h > height)
             throw std::invalid_argument(fmt::format("{}: window {}+{} x {}+{} outside the {} x {} raster", path, i0, w,
@@ -334,11 +344,8 @@ struct DemWindowReader::Impl {
     void readWholeMetres(int64_t i0, int64_t j0, int64_t w, int64_t h, int16_t* metres, uint8_t* valid) const {
         if (!wholeMetres) throw std::logic_error(path + ": band 1 does not hold 16-bit integers in metres");
         checkWindow(i0, j0, w, h);
-        const auto samples = static_cast<size_t>(w * h);
-        thread_local std::vector<int16_t> reused;
         std::vector<int16_t> own;
-        std::vector<int16_t>& raw = samples <= kReusedSamples ? reused : own;
-        if (raw.size() < samples) raw.resize(samples);
+        std::vector<int16_t>& raw = windowBuffer(static_cast<size_t>(w * h), own);
         readRaw(i0, j0, w, h, GDT_Int16, raw.data());
         const auto nodataValue = static_cast<int16_t>(nodataInt16 ? nodata : 0.0);
         std::vector<int16_t> rowBuffer(lattice.flipColumns ? static_cast<size_t>(w) : 0);
@@ -369,13 +376,9 @@ struct DemWindowReader::Impl {
 
     void read(int64_t i0, int64_t j0, int64_t w, int64_t h, float* heightsM, uint8_t* valid) const {
         checkWindow(i0, j0, w, h);
-        // As float64, so that every integer and float32 type converts exactly. A tile-sized window reuses this
-        // thread's buffer: tiled grids read thousands of them, and a fresh one each time costs page faults.
-        const auto samples = static_cast<size_t>(w * h);
-        thread_local std::vector<double> reused;
+        // As float64, so that every integer and float32 type converts exactly.
         std::vector<double> own;
-        std::vector<double>& raw = samples <= kReusedSamples ? reused : own;
-        if (raw.size() < samples) raw.resize(samples);
+        std::vector<double>& raw = windowBuffer(static_cast<size_t>(w * h), own);
         const auto [column0, row0] = readRaw(i0, j0, w, h, GDT_Float64, raw.data());
         for (int64_t r = 0; r < h; ++r) {
             const int64_t row = row0 + r;
