@@ -26,6 +26,7 @@ constexpr size_t kLargest = kChunkBytes / 4;  // larger arrays come from operato
 struct Pool {
     std::mutex mutex;
     std::unordered_map<size_t, std::vector<void*>> free;  // by rounded size
+    std::vector<char*> chunks;  // every chunk taken (kept reachable, for leak checkers)
     char* chunk = nullptr;  // the chunk being carved
     size_t used = 0;        // of it
     TileMemoryStats stats;
@@ -58,6 +59,14 @@ void* allocateTileMemory(size_t bytes) {
             if (p.chunk == nullptr) {
                 p.stats.bytesInUse -= size;
                 throw std::bad_alloc();
+            }
+            try {
+                p.chunks.push_back(p.chunk);
+            } catch (...) {
+                std::free(p.chunk);
+                p.chunk = nullptr;
+                p.stats.bytesInUse -= size;
+                throw;
             }
             adviseLargeBuffer(p.chunk, kChunkBytes);
             p.used = 0;
