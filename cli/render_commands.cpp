@@ -50,6 +50,9 @@ void addRenderCommand(CLI::App& app, Commands& commands) {
     cmd->add_option("--view", t->view,
                     "perspective (default), or map: top-down on the DEM's grid, written as GeoTIFF (.tif) or PNG");
     cmd->add_option("--scale", render.scale, "Map view: output pixels per DEM cell (default 1)");
+    cmd->add_flag("--resume", render.resume,
+                  "Map view as a GeoTIFF at scale 1: keep the output tiles an interrupted run of the same command "
+                  "left in OUTPUT.partial and compute only the others");
     cmd->add_flag("--no-shadows", t->noShadows, "Map view: no cast shadows");
     cmd->add_option("--sky-samples", render.skySamples,
                     "Sky-visibility rays per hit (per pixel in the map view), 0 = off (default 4; map view 16)")

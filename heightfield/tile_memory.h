@@ -3,7 +3,8 @@
 // fresh pages, faulted in one 4 KiB page at a time on first touch: a fifth of a tiled render's time when its
 // tiles all fit. Here they are carved from chunks of 8 MiB offered to the large-buffer advisor (huge pages,
 // large_buffer.h), and the arrays of a dropped tile are reused by the next of the same size. The memory is kept
-// for reuse until the process ends: at most what the tiles held at their peak. Thread-safe.
+// for reuse until the process ends: for each array size, the most arrays of that size held at once.
+// Thread-safe.
 #pragma once
 
 #include <cstddef>

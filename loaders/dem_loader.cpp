@@ -515,6 +515,25 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, c
 
 }  // namespace
 
+namespace {
+
+// Whether a window of the raster is cheap to read on its own: GDAL stores it in blocks narrower than its rows
+// (tiled GeoTIFF, COG) or it is a VRT of other files. Strips of whole rows (striped GeoTIFF, .hgt, ASCII grids)
+// are decoded in full for every window that touches them, and such a raster is better read whole. False when
+// GDAL cannot open it (the whole load then says why).
+bool readsByBlocks(const std::string& path) {
+    registerGdalDrivers();
+    QuietGdalErrors quiet;
+    const GDALDatasetUniquePtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+    if (!ds || ds->GetRasterCount() < 1) return false;
+    int blockX = 0, blockY = 0;
+    ds->GetRasterBand(1)->GetBlockSize(&blockX, &blockY);
+    const bool vrt = ds->GetDriver() != nullptr && std::string_view(ds->GetDriver()->GetDescription()) == "VRT";
+    return vrt || blockX < ds->GetRasterXSize();
+}
+
+}  // namespace
+
 LoadedDem loadDem(const std::string& path, const DemLoadOptions& options) {
     checkInputFile(path, "a DEM");
     const ExitOnCancel interruptible;  // GDAL may block (a network path); nothing is written yet
@@ -527,10 +546,15 @@ LoadedDem loadDem(const std::string& path, const DemLoadOptions& options) {
     }
     if (options.tileCacheBytes > 0.0) return openTiledDem(path, size_t(options.tileCacheBytes), options);
     if (options.tilesUnderRanks && ranks::size() > 1) {
-        // The ranks on this machine share its memory limit.
-        const double share = memoryLimitBytes(options.maxBytes) / double(ranks::sizeOnThisMachine());
-        const double cacheBytes = std::max(kMinTileCacheBytes, (share - currentResidentBytes()) / 4.0);
-        return openTiledDem(path, size_t(cacheBytes), options);
+        // --max-memory bounds each process, as everywhere; the default limit is the machine's, shared by its
+        // ranks. A quarter of what is left goes to the cache, as for a raster too large to hold whole.
+        const double limit = options.maxBytes > 0.0 ? options.maxBytes
+                                                    : defaultMemoryLimitBytes() / double(ranks::sizeOnThisMachine());
+        const double cacheBytes = (limit - currentResidentBytes()) / 4.0;
+        // Every rank takes the same path (the whole load is collective): tiles only when every rank can.
+        int64_t able = cacheBytes >= kMinTileCacheBytes && readsByBlocks(path) ? 1 : 0;
+        ranks::sum(&able, 1);
+        if (able == ranks::size()) return openTiledDem(path, size_t(cacheBytes), options);
     }
     // A raster too large to hold whole is held as tiles, with a quarter of the memory left for their cache.
     try {

@@ -38,9 +38,11 @@ struct DemLoadOptions {
     // per rank and the bands are exchanged, and the ranks agree on holding it whole or as tiles. Off, each rank
     // loads on its own.
     bool sharedByRanks = false;
-    // Under mpirun (more than one rank), hold a GDAL raster as tiles even when it fits, so that each rank reads
-    // only the tiles its part of the work reaches (docs/architecture.md, "Ranks"); for jobs that never need the
-    // whole grid. The cache takes a quarter of this rank's share of the memory limit. No effect on one rank.
+    // Under mpirun (more than one rank), hold a GDAL raster stored in blocks (tiled GeoTIFF, COG, VRT) as tiles
+    // even when it fits, so that each rank reads only the tiles its part of the work reaches
+    // (docs/architecture.md, "Ranks"); for jobs that never need the whole grid. The cache takes a quarter of
+    // what the memory limit leaves (maxBytes per process; the default limit shared by the machine's ranks).
+    // No effect on one rank.
     bool tilesUnderRanks = false;
 };
 

@@ -404,6 +404,12 @@ TEST_CASE("CLI: the map view GeoTIFF is written a tile at a time, from a DEM hel
     REQUIRE(tiled.exitCode == 0);
     CHECK(tiled.err.find("tiles: ") != std::string::npos);
     CHECK(slurp(dir.file("whole.tif")) == slurp(dir.file("tiled.tif")));
+    // --resume keeps what an interrupted run finished (here: nothing left to do) and writes the same bytes.
+    const auto resumed = runTerracast(args + " --resume -o '" + dir.file("tiled.tif") + "'");
+    INFO(resumed.err);
+    REQUIRE(resumed.exitCode == 0);
+    CHECK(slurp(dir.file("whole.tif")) == slurp(dir.file("tiled.tif")));
+    CHECK(runTerracast(args + " --resume -o '" + dir.file("resumed.png") + "'").exitCode == 2);
     // A cloud-optimized layout, and the same colours as the PNG picture of the same view (rendered whole, rows
     // north first in both files).
     GDALAllRegister();

@@ -147,8 +147,11 @@ void renderMap(const DemRenderOptions& o, const RunListener& listener) {
     const bool onGrid = lowerExtension(o.output) != ".png" && o.scale == 1.0 &&
                         requireDirectMethod(o.method, "--view map") != CellMethod::Nearest;
     if (ranks::size() > 1 && !onGrid)
-        throw InputError("render --view map: a PNG, or a --scale other than 1, runs as one process; under mpirun the "
-                         "map view is shared over the ranks as a GeoTIFF at scale 1");
+        throw InputError("render --view map: runs as one process as a PNG, at a --scale other than 1 or with "
+                         "--method nearest; under mpirun the ranks share a GeoTIFF at scale 1");
+    if (o.resume && !onGrid)
+        throw InputError("render --resume: only the map view as a GeoTIFF at --scale 1 (not --method nearest) is "
+                         "written a tile at a time and can resume");
     checkOutputPath(o.output, o.dem.path, {".tif", ".tiff", ".png"});
     checkViewValues(o.exaggeration, o.sunElevationDeg);
     if (!(o.scale > 0.0 && o.scale <= 16.0)) throw InputError(fmt::format("--scale: expected (0, 16], found {}", o.scale));
@@ -188,7 +191,7 @@ void renderMap(const DemRenderOptions& o, const RunListener& listener) {
             }
             return r;
         };
-        const ProductCount count = writeVertexProduct(o.output, false, dem, std::move(product), listener);
+        const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
         tellRasterSummary(listener, "map view", o.output, count, count.rays, "sun and sky rays", start);
         return;
     }
@@ -250,8 +253,10 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     checkSkySamples(o.skySamples);
     if (!(o.haze >= 0.0 && o.haze <= 1000.0))
         throw InputError(fmt::format("--haze: expected a number in 0..1000, found {}", o.haze));
-    // Vertical exaggeration rescales the whole grid; otherwise the render reads only the tiles it sees.
-    LoadedDem dem = loadDemSource(o.dem, listener, o.exaggeration == 1.0);
+    if (o.resume) throw InputError("render --resume: only the map view as a GeoTIFF at --scale 1 can resume");
+    // Vertical exaggeration rescales the whole grid, and Embree's meshes read every vertex; otherwise the render
+    // reads only the tiles it sees.
+    LoadedDem dem = loadDemSource(o.dem, listener, o.exaggeration == 1.0 && directCellMethod(o.method).has_value());
     HeightGrid& grid = dem.grid;
     double sunAzimuthDeg = o.sunAzimuthDeg, sunElevationDeg = o.sunElevationDeg;
     applySunTime(o, dem, sunAzimuthDeg, sunElevationDeg, listener);

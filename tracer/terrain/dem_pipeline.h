@@ -64,6 +64,7 @@ struct DemRenderOptions {
     int threads = 0;                           // 0 = all cores
     bool mapView = false;                      // top-down orthographic map on the DEM's grid (--view map)
     double scale = 1.0;                        // map view: output pixels per DEM cell along each axis
+    bool resume = false;                       // map view GeoTIFF at scale 1: keep an interrupted run's tiles
     bool castShadows = true;                   // map view: ray-traced cast shadows
     int skySamples = -1;                       // hemisphere rays per hit (perspective) or pixel (map) for sky
                                                // visibility; -1 = default, 4 in perspective, 16 in the map view
