@@ -344,33 +344,23 @@ struct DemWindowReader::Impl {
     void readWholeMetres(int64_t i0, int64_t j0, int64_t w, int64_t h, int16_t* metres, uint8_t* valid) const {
         if (!wholeMetres) throw std::logic_error(path + ": band 1 does not hold 16-bit integers in metres");
         checkWindow(i0, j0, w, h);
-        std::vector<int16_t> own;
-        std::vector<int16_t>& raw = windowBuffer(static_cast<size_t>(w * h), own);
-        readRaw(i0, j0, w, h, GDT_Int16, raw.data());
-        const auto nodataValue = static_cast<int16_t>(nodataInt16 ? nodata : 0.0);
-        std::vector<int16_t> rowBuffer(lattice.flipColumns ? static_cast<size_t>(w) : 0);
-        for (int64_t r = 0; r < h; ++r) {
-            // Grid row j of the window is raster row r, mirrored as in readRaw.
-            const int64_t j = lattice.flipRows ? h - 1 - r : r;
-            const int16_t* from = raw.data() + r * w;
-            int16_t* to = metres + j * w;
-            uint8_t* ok = valid + j * w;
-            if (lattice.flipColumns) {
-                // Rare (rasters stored east to west): reversed first, then taken as any row.
-                std::reverse_copy(from, from + w, rowBuffer.begin());
-                from = rowBuffer.data();
-            }
-            if (!nodataInt16) {
-                std::copy(from, from + w, to);
-                std::fill(ok, ok + w, uint8_t{1});
-                continue;
-            }
-            for (int64_t c = 0; c < w; ++c) {
-                const int16_t value = from[c];
-                const bool good = value != nodataValue;
-                ok[c] = good ? 1 : 0;
-                to[c] = good ? value : int16_t{0};
-            }
+        // Straight into the caller's array, in the raster's order, then mirrored in place into the grid's.
+        readRaw(i0, j0, w, h, GDT_Int16, metres);
+        if (lattice.flipRows)
+            for (int64_t r = 0; r < h / 2; ++r)
+                std::swap_ranges(metres + r * w, metres + (r + 1) * w, metres + (h - 1 - r) * w);
+        if (lattice.flipColumns)
+            for (int64_t r = 0; r < h; ++r) std::reverse(metres + r * w, metres + (r + 1) * w);
+        const auto n = static_cast<size_t>(w * h);
+        if (!nodataInt16) {
+            std::fill(valid, valid + n, uint8_t{1});
+            return;
+        }
+        const auto nodataValue = static_cast<int16_t>(nodata);
+        for (size_t k = 0; k < n; ++k) {
+            const bool good = metres[k] != nodataValue;
+            valid[k] = good ? 1 : 0;
+            if (!good) metres[k] = 0;
         }
     }
 
@@ -512,10 +502,6 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, c
                         std::move(valid), reader.metresPerRaw);
     return dem;
 }
-
-}  // namespace
-
-namespace {
 
 // Whether a window of the raster is cheap to read on its own: GDAL stores it in blocks narrower than its rows
 // (tiled GeoTIFF, COG) or it is a VRT of other files. Strips of whole rows (striped GeoTIFF, .hgt, ASCII grids)

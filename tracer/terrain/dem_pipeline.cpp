@@ -140,6 +140,13 @@ void checkSkySamples(int skySamples) {
         throw InputError(fmt::format("--sky-samples: expected 0..4096, found {}", skySamples));
 }
 
+// A map view GeoTIFF's four samples at a pixel: 8-bit sRGB of the linear colour, and alpha 255 where the
+// terrain has a surface, 0 over holes.
+void mapViewSample(const glm::vec3& linear, bool covered, float* out) {
+    for (int b = 0; b < 3; ++b) out[b] = 255.0f * srgbFromLinear(linear[b]);
+    out[3] = covered ? 255.0f : 0.0f;
+}
+
 // `render --view map`: the top-down shaded relief, as a GeoTIFF on the DEM's georeference or a PNG.
 void renderMap(const DemRenderOptions& o, const RunListener& listener) {
     // A GeoTIFF at scale 1 on a surface through the vertices is a per-vertex product on the DEM's own grid,
@@ -186,8 +193,7 @@ void renderMap(const DemRenderOptions& o, const RunListener& listener) {
         product.compute = [make = mapViewMaker(dem.grid, m)](const VertexWindow& w, const MapProgress& p) {
             MapRaster r = make(w, p);
             for (size_t k = 0; k < r.values.size(); k += 4) {
-                for (size_t b = 0; b < 3; ++b) r.values[k + b] = 255.0f * srgbFromLinear(r.values[k + b]);
-                r.values[k + 3] = r.values[k + 3] > 0.0f ? 255.0f : 0.0f;
+                mapViewSample({r.values[k], r.values[k + 1], r.values[k + 2]}, r.values[k + 3] > 0.0f, &r.values[k]);
             }
             return r;
         };
@@ -227,8 +233,7 @@ void renderMap(const DemRenderOptions& o, const RunListener& listener) {
                 const int row = film.height - 1 - y;
                 const glm::vec3 c = film.get(x, row);
                 float* v = &out.values[(size_t(y) * size_t(film.width) + size_t(x)) * 4];
-                for (int b = 0; b < 3; ++b) v[b] = 255.0f * srgbFromLinear(c[b]);
-                v[3] = image.covered[size_t(row) * size_t(film.width) + size_t(x)] ? 255.0f : 0.0f;
+                mapViewSample(c, image.covered[size_t(row) * size_t(film.width) + size_t(x)] != 0, v);
             }
         const double pxX = double(dem.grid.width()) / film.width * sourcePixelSizeX(dem.geo);
         const double pxY = double(dem.grid.height()) / film.height * sourcePixelSizeY(dem.geo);
