@@ -252,6 +252,7 @@ struct DemWindowReader::Impl {
     bool hasNodata = false;
     double nodata = 0.0;
     bool float32 = false;
+    bool storedInBlocks = false;  // blocks narrower than the rows, or a VRT
     bool wholeMetres = false;  // Int16 band in metres, without scale or offset
     bool nodataInt16 = false;  // the nodata value is one an Int16 sample can hold
     mutable std::mutex readMutex;
@@ -296,6 +297,9 @@ struct DemWindowReader::Impl {
         hasNodata = declared != 0;
         float32 = band->GetRasterDataType() == GDT_Float32;
         wholeMetres = band->GetRasterDataType() == GDT_Int16 && metresPerRaw == 1.0 && metresOffset == 0.0;
+        int blockX = 0, blockY = 0;
+        band->GetBlockSize(&blockX, &blockY);
+        storedInBlocks = driver == "VRT" || blockX < width;
         nodataInt16 = hasNodata && nodata == std::trunc(nodata) && nodata >= -32768.0 && nodata <= 32767.0;
     }
 
@@ -422,6 +426,7 @@ std::string DemWindowReader::decodingKey() const {
 void DemWindowReader::read(int64_t i0, int64_t j0, int64_t w, int64_t h, float* heightsM, uint8_t* valid) const {
     impl_->read(i0, j0, w, h, heightsM, valid);
 }
+bool DemWindowReader::storedInBlocks() const { return impl_->storedInBlocks; }
 bool DemWindowReader::wholeMetres() const { return impl_->wholeMetres; }
 void DemWindowReader::readWholeMetres(int64_t i0, int64_t j0, int64_t w, int64_t h, int16_t* metres,
                                       uint8_t* valid) const {
@@ -503,21 +508,6 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, c
     return dem;
 }
 
-// Whether a window of the raster is cheap to read on its own: GDAL stores it in blocks narrower than its rows
-// (tiled GeoTIFF, COG) or it is a VRT of other files. Strips of whole rows (striped GeoTIFF, .hgt, ASCII grids)
-// are decoded in full for every window that touches them, and such a raster is better read whole. False when
-// GDAL cannot open it (the whole load then says why).
-bool readsByBlocks(const std::string& path) {
-    registerGdalDrivers();
-    QuietGdalErrors quiet;
-    const GDALDatasetUniquePtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
-    if (!ds || ds->GetRasterCount() < 1) return false;
-    int blockX = 0, blockY = 0;
-    ds->GetRasterBand(1)->GetBlockSize(&blockX, &blockY);
-    const bool vrt = ds->GetDriver() != nullptr && std::string_view(ds->GetDriver()->GetDescription()) == "VRT";
-    return vrt || blockX < ds->GetRasterXSize();
-}
-
 }  // namespace
 
 LoadedDem loadDem(const std::string& path, const DemLoadOptions& options) {
@@ -537,10 +527,19 @@ LoadedDem loadDem(const std::string& path, const DemLoadOptions& options) {
         const double limit = options.maxBytes > 0.0 ? options.maxBytes
                                                     : defaultMemoryLimitBytes() / double(ranks::sizeOnThisMachine());
         const double cacheBytes = (limit - currentResidentBytes()) / 4.0;
+        // Opened once for both the decision and the tiles. A raster GDAL cannot open, or one stored in strips,
+        // takes the whole load (which says what is wrong with the former).
+        std::unique_ptr<DemWindowReader> reader;
+        if (cacheBytes >= kMinTileCacheBytes) {
+            try {
+                reader = std::make_unique<DemWindowReader>(path, options);
+            } catch (const InputError&) {
+            }
+        }
         // Every rank takes the same path (the whole load is collective): tiles only when every rank can.
-        int64_t able = cacheBytes >= kMinTileCacheBytes && readsByBlocks(path) ? 1 : 0;
+        int64_t able = reader && reader->storedInBlocks() ? 1 : 0;
         ranks::sum(&able, 1);
-        if (able == ranks::size()) return openTiledDem(path, size_t(cacheBytes), options);
+        if (able == ranks::size()) return openTiledDem(std::move(reader), size_t(cacheBytes));
     }
     // A raster too large to hold whole is held as tiles, with a quarter of the memory left for their cache.
     try {

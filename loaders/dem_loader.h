@@ -100,6 +100,10 @@ public:
     // `valid` may be null when the band declares no nodata. Throws InputError naming the raster rows when GDAL
     // cannot read them or a height is non-finite or absurd; std::invalid_argument for a window off the grid.
     void read(int64_t i0, int64_t j0, int64_t w, int64_t h, float* heightsM, uint8_t* valid) const;
+    // Whether a window is cheap to read on its own: GDAL stores band 1 in blocks narrower than its rows (tiled
+    // GeoTIFF, COG) or the raster is a VRT of other files. Strips of whole rows (striped GeoTIFF, .hgt, ASCII
+    // grids) are decoded in full for every window that touches them.
+    bool storedInBlocks() const;
     // Whether band 1 stores 16-bit integers in metres (no scale, no offset), which readWholeMetres reads.
     bool wholeMetres() const;
     // As read, for such a band: the heights as stored (0 at nodata vertices), without conversion to float;

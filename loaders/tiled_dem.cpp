@@ -37,7 +37,10 @@ GridSummary streamSummary(const DemWindowReader& reader, const std::string& path
 }  // namespace
 
 TiledDem::TiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options)
-    : reader_(std::make_unique<DemWindowReader>(path, options)) {
+    : TiledDem(std::make_unique<DemWindowReader>(path, options), cacheBytes) {}
+
+TiledDem::TiledDem(std::unique_ptr<DemWindowReader> reader, size_t cacheBytes) : reader_(std::move(reader)) {
+    const std::string& path = reader_->path();
     if (GDALGetCacheMax64() > kSourceBlockCacheBytes) GDALSetCacheMax64(kSourceBlockCacheBytes);
     const int64_t width = reader_->width(), height = reader_->height();
     layout_ = TileLayout{width, height};
@@ -98,7 +101,12 @@ std::shared_ptr<const HeightTile> TiledDem::readTile(int64_t key) const {
 }
 
 LoadedDem openTiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options) {
-    auto tiles = std::make_shared<const TiledDem>(path, cacheBytes, options);
+    return openTiledDem(std::make_unique<DemWindowReader>(path, options), cacheBytes);
+}
+
+LoadedDem openTiledDem(std::unique_ptr<DemWindowReader> opened, size_t cacheBytes) {
+    const std::string path = opened->path();
+    auto tiles = std::make_shared<const TiledDem>(std::move(opened), cacheBytes);
     const DemWindowReader& reader = tiles->reader();
     LoadedDem dem;
     dem.path = path;

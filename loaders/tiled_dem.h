@@ -24,6 +24,8 @@ public:
 
     // Opens `path` and streams it once; throws InputError as loadDem does (but never for the raster's size).
     TiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options = {});
+    // The same over a raster already open.
+    TiledDem(std::unique_ptr<DemWindowReader> reader, size_t cacheBytes);
 
     const DemWindowReader& reader() const { return *reader_; }
     const GridSummary& summary() const { return summary_; }
@@ -61,5 +63,7 @@ private:
 // Opens a DEM as a tiled grid (HeightGrid::tiled) over a TiledDem whose cache holds at most `cacheBytes` of
 // tiles: everything loadDem returns, with the heights left in the file. Throws InputError as loadDem does.
 LoadedDem openTiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options = {});
+// The same over a raster already open.
+LoadedDem openTiledDem(std::unique_ptr<DemWindowReader> reader, size_t cacheBytes);
 
 }  // namespace terracast
