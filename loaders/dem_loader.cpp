@@ -38,6 +38,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string_view>
+#include <thread>
 #include <unistd.h>
 #include <utility>
 
@@ -235,10 +236,19 @@ void checkBlockSize(const std::string& path, GDALDataset& dataset, GDALRasterBan
 
 }  // namespace
 
-// An open GDAL raster whose band 1 is decoded into heights as loadDem decodes it. Reads of one dataset are
-// serialised: GDAL datasets take one reader at a time.
+// An open GDAL raster whose band 1 is decoded into heights as loadDem decodes it. A GDAL dataset takes one
+// reader at a time, so threads that read at once each get their own opening of the raster (at most one per
+// hardware thread), and a thread keeps to the one it used last, whose decoded blocks GDAL still caches.
 struct DemWindowReader::Impl {
+    // One opening of the raster, read by one thread at a time.
+    struct Handle {
+        GDALDatasetUniquePtr dataset;
+        GDALRasterBand* band = nullptr;
+        std::mutex mutex;
+    };
+
     std::string path;
+    std::string source;  // what GDAL opened: `path`, or the file standing for it
     std::string driver;
     int64_t width = 0;
     int64_t height = 0;
@@ -255,14 +265,17 @@ struct DemWindowReader::Impl {
     bool storedInBlocks = false;  // blocks narrower than the rows, or a VRT
     bool wholeMetres = false;  // Int16 band in metres, without scale or offset
     bool nodataInt16 = false;  // the nodata value is one an Int16 sample can hold
-    mutable std::mutex readMutex;
+    mutable std::mutex readMutex;  // for `dataset` and `band`
+    mutable std::mutex handlesMutex;  // for `handles`
+    mutable std::vector<std::unique_ptr<Handle>> handles;  // more openings, made as threads read at once
+    mutable std::atomic<bool> noMoreHandles{false};
 
     // Opens `openPath` (or `path`) and checks everything but the heights, in the order loadDem reports them.
     // With `wholeRaster` the raster must also fit the memory limit.
     Impl(const std::string& path_, const DemLoadOptions& options, bool wholeRaster, const std::string& openPath) : path(path_) {
         registerGdalDrivers();
         QuietGdalErrors quiet;
-        const std::string& source = openPath.empty() ? path : openPath;
+        source = openPath.empty() ? path : openPath;
         dataset.reset(GDALDataset::Open(source.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
         if (!dataset) {
             const std::string reason = gdalReason();
@@ -334,15 +347,64 @@ struct DemWindowReader::Impl {
         // south (or east to west).
         const int64_t column0 = lattice.flipColumns ? width - i0 - w : i0;
         const int64_t row0 = lattice.flipRows ? height - j0 - h : j0;
-        std::lock_guard lock(readMutex);
+        std::unique_lock<std::mutex> lock;
+        GDALRasterBand* reading = lockBand(lock);
         QuietGdalErrors quiet;
         CPLErrorReset();
-        if (band->RasterIO(GF_Read, static_cast<int>(column0), static_cast<int>(row0), static_cast<int>(w),
+        if (reading->RasterIO(GF_Read, static_cast<int>(column0), static_cast<int>(row0), static_cast<int>(w),
                            static_cast<int>(h), raw, static_cast<int>(w), static_cast<int>(h), type, 0, 0,
                            nullptr) != CE_None)
             throw InputError(fmt::format("{}: cannot read rows {}..{} of band 1{}", path, row0, row0 + h - 1,
                                          gdalReason()));
         return {column0, row0};
+    }
+
+    // A band no other thread is reading, locked into `lock`: the first opening when it is free, else the opening
+    // this thread used last, another free one, or a new one; when none can be had, the first after a wait.
+    GDALRasterBand* lockBand(std::unique_lock<std::mutex>& lock) const {
+        thread_local const Impl* lastReader = nullptr;
+        thread_local size_t lastHandle = 0;  // 0 for the first opening, k + 1 for handles[k]
+        const auto take = [&](std::mutex& m) {
+            lock = std::unique_lock<std::mutex>(m, std::try_to_lock);
+            return lock.owns_lock();
+        };
+        const size_t preferred = lastReader == this ? lastHandle : 0;
+        lastReader = this;
+        {
+            std::lock_guard list(handlesMutex);
+            if (preferred > 0 && preferred <= handles.size() && take(handles[preferred - 1]->mutex)) {
+                lastHandle = preferred;
+                return handles[preferred - 1]->band;
+            }
+            if (take(readMutex)) {
+                lastHandle = 0;
+                return band;
+            }
+            for (size_t k = 0; k < handles.size(); ++k)
+                if (take(handles[k]->mutex)) {
+                    lastHandle = k + 1;
+                    return handles[k]->band;
+                }
+        }
+        if (!noMoreHandles.load(std::memory_order_relaxed)) {
+            // Opened outside the list's lock (it takes milliseconds), then added to the list locked.
+            auto handle = std::make_unique<Handle>();
+            handle->dataset.reset(GDALDataset::Open(source.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+            if (handle->dataset && handle->dataset->GetRasterCount() >= 1) {
+                handle->band = handle->dataset->GetRasterBand(1);
+                std::lock_guard list(handlesMutex);
+                if (handles.size() + 1 < std::max<size_t>(std::thread::hardware_concurrency(), 2)) {
+                    Handle& added = *handles.emplace_back(std::move(handle));
+                    lock = std::unique_lock<std::mutex>(added.mutex);
+                    lastHandle = handles.size();
+                    return added.band;
+                }
+            }
+            noMoreHandles = true;
+        }
+        lock = std::unique_lock<std::mutex>(readMutex);
+        lastHandle = 0;
+        return band;
     }
 
     void readWholeMetres(int64_t i0, int64_t j0, int64_t w, int64_t h, int16_t* metres, uint8_t* valid) const {
@@ -428,6 +490,10 @@ void DemWindowReader::read(int64_t i0, int64_t j0, int64_t w, int64_t h, float* 
 }
 bool DemWindowReader::storedInBlocks() const { return impl_->storedInBlocks; }
 bool DemWindowReader::wholeMetres() const { return impl_->wholeMetres; }
+int DemWindowReader::openings() const {
+    std::lock_guard list(impl_->handlesMutex);
+    return 1 + static_cast<int>(impl_->handles.size());
+}
 void DemWindowReader::readWholeMetres(int64_t i0, int64_t j0, int64_t w, int64_t h, int16_t* metres,
                                       uint8_t* valid) const {
     impl_->readWholeMetres(i0, j0, w, h, metres, valid);

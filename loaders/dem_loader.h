@@ -69,7 +69,7 @@ LoadedDem loadDemFromBytes(std::string_view bytes, const std::string& name, cons
 // A DEM opened through GDAL and read a window of vertices at a time, each decoded exactly as loadDem decodes
 // the whole raster (unit, scale and offset, nodata, row order): the source of tiled grids, which never hold the
 // raster (docs/architecture.md, "Tiled grids"). loadDem reads GDAL rasters through it too. Reads may come from
-// several threads; they take turns on the one dataset.
+// several threads: threads that read at once get their own opening of the raster, up to one per hardware thread.
 class DemWindowReader {
 public:
     // Opens the raster and checks everything but its heights, refusing what loadDem refuses (but not for its
@@ -109,6 +109,9 @@ public:
     // As read, for such a band: the heights as stored (0 at nodata vertices), without conversion to float;
     // `valid` must not be null. Throws InputError as read does, std::logic_error for another band.
     void readWholeMetres(int64_t i0, int64_t j0, int64_t w, int64_t h, int16_t* metres, uint8_t* valid) const;
+    // How many times GDAL has opened the raster for this reader: 1, and one more for each thread that found the
+    // others' openings busy.
+    int openings() const;
 
     struct Impl;
 

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <fstream>
@@ -86,6 +87,21 @@ void checkWindows(const std::string& path) {
         const int64_t i0 = int64_t(rng() % uint64_t(W - w + 1)), j0 = int64_t(rng() % uint64_t(H - h + 1));
         CHECK(compareWindow(reader, dem.grid, i0, j0, w, h) == "");
     }
+}
+
+// gdal_translate with `args` from `from` to `to`.
+void translate(const std::string& from, const std::string& to, std::vector<std::string> args) {
+    GDALAllRegister();
+    GDALDatasetUniquePtr source(GDALDataset::Open(from.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+    REQUIRE(source);
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    GDALTranslateOptions* options = GDALTranslateOptionsNew(argv.data(), nullptr);
+    GDALDatasetH out = GDALTranslate(to.c_str(), source.get(), options, nullptr);
+    GDALTranslateOptionsFree(options);
+    REQUIRE(out != nullptr);
+    GDALClose(out);
 }
 
 }  // namespace
@@ -208,23 +224,39 @@ TEST_CASE("DEM windows: a VRT mosaic of four files reads as the DEM they were cu
 }
 
 TEST_CASE("DEM windows: threads reading at once each get their own window right", "[loaders][tiles]") {
-    const std::string path = sample("usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif");
-    const LoadedDem dem = loadDem(path);
-    const DemWindowReader reader(path);
-    std::vector<std::string> failures(4);
-    std::vector<std::thread> threads;
-    for (int t = 0; t < 4; ++t)
-        threads.emplace_back([&, t] {
-            std::mt19937_64 rng{uint64_t(t)};
-            for (int n = 0; n < 50 && failures[size_t(t)].empty(); ++n) {
-                const int64_t w = 1 + int64_t(rng() % 64), h = 1 + int64_t(rng() % 64);
-                const int64_t i0 = int64_t(rng() % uint64_t(reader.width() - w + 1));
-                const int64_t j0 = int64_t(rng() % uint64_t(reader.height() - h + 1));
-                failures[size_t(t)] = compareWindow(reader, dem.grid, i0, j0, w, h);
-            }
-        });
-    for (auto& th : threads) th.join();
-    for (const auto& f : failures) CHECK(f == "");
+    // St Helens (16-bit, nodata) as GDAL stores it, in strips, and as a tiled copy; each window is read both as
+    // floats and as whole metres.
+    TempDir dir("dem-window-threads");
+    const std::string striped = sample("usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif");
+    const std::string tiled = dir.file("tiled.tif");
+    translate(striped, tiled, {"-co", "TILED=YES", "-co", "BLOCKXSIZE=16", "-co", "BLOCKYSIZE=16", "-co",
+                               "COMPRESS=DEFLATE"});
+    for (const std::string& path : {striped, tiled}) {
+        INFO(path);
+        const LoadedDem dem = loadDem(path);
+        const DemWindowReader reader(path);
+        std::vector<std::string> failures(4);
+        std::vector<std::thread> threads;
+        std::atomic<int> ready{0};
+        for (int t = 0; t < 4; ++t)
+            threads.emplace_back([&, t] {
+                ++ready;
+                while (ready.load() < 4) std::this_thread::yield();  // all four read at once
+                std::mt19937_64 rng{uint64_t(t)};
+                for (int n = 0; n < 100 && failures[size_t(t)].empty(); ++n) {
+                    const int64_t w = 1 + int64_t(rng() % 64), h = 1 + int64_t(rng() % 64);
+                    const int64_t i0 = int64_t(rng() % uint64_t(reader.width() - w + 1));
+                    const int64_t j0 = int64_t(rng() % uint64_t(reader.height() - h + 1));
+                    failures[size_t(t)] = compareWindow(reader, dem.grid, i0, j0, w, h);
+                }
+            });
+        for (auto& th : threads) th.join();
+        for (const auto& f : failures) CHECK(f == "");
+        // The threads did not all wait for one dataset.
+        CHECK(reader.wholeMetres());
+        CHECK(reader.openings() >= 2);
+        CHECK(reader.openings() <= int(std::max(std::thread::hardware_concurrency(), 2u)));
+    }
 }
 
 TEST_CASE("DEM windows: a damaged file fails the read that meets the damage, naming its rows", "[loaders][tiles]") {
