@@ -47,14 +47,17 @@ struct TiledHeights {
 
     // The tile holding cell (i, j).
     const HeightTile& cellTile(int64_t i, int64_t j) const {
-        if (i < x0 || i > x1 || j < y0 || j > y1) [[unlikely]] {
-            tile = &grid->tileOfCell(i, j);
-            x0 = tile->firstX();
-            y0 = tile->firstY();
-            x1 = x0 + tile->verticesX() - 2;
-            y1 = y0 + tile->verticesY() - 2;
-        }
+        if (i < x0 || i > x1 || j < y0 || j > y1) [[unlikely]]
+            moveTo(i, j);
         return *tile;
+    }
+    // Out of line, so that the checks above inline into the walk.
+    [[gnu::noinline]] void moveTo(int64_t i, int64_t j) const {
+        tile = &grid->tileOfCell(i, j);
+        x0 = tile->firstX();
+        y0 = tile->firstY();
+        x1 = x0 + tile->verticesX() - 2;
+        y1 = y0 + tile->verticesY() - 2;
     }
     // Vertex (i, j): the current tile when it holds the vertex (it holds its cells' far edges too).
     float operator()(int64_t i, int64_t j) const {

@@ -117,10 +117,14 @@ HeightTile::HeightTile(const GridSummary& summary, int64_t firstX, int64_t first
 void HeightTile::buildPyramid(const GridSummary& summary) {
     levels_ = std::min(kTileLevels, pyramidLevelCount(summary.width - 1, summary.height - 1));
     const int64_t cellsX = verticesX_ - 1, cellsY = verticesY_ - 1;
+    vertexOrigin_ = firstY_ * verticesX_ + firstX_;
+    cellOrigin_ = firstY_ * cellsX + firstX_;
+    unitCodes_ = !codes_.empty() && codeScale_ == 1.0;
     int64_t total = 0;
     for (int k = 1; k <= levels_; ++k) {
         levelStart_[k - 1] = total;
         levelBlocksX_[k - 1] = (cellsX + (int64_t(1) << k) - 1) >> k;
+        levelOrigin_[k - 1] = total - (firstY_ >> k) * levelBlocksX_[k - 1] - (firstX_ >> k);
         total += levelBlocksX_[k - 1] * ((cellsY + (int64_t(1) << k) - 1) >> k);
     }
     maxCodes_.resize(static_cast<size_t>(total));

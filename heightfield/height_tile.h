@@ -64,16 +64,19 @@ public:
     int64_t verticesY() const { return verticesY_; }
 
     // At grid vertex (i, j), which must lie in the tile.
+    // (The traversal kernels' hot loop: indices relative to the tile come from origins worked out once.)
     float at(int64_t i, int64_t j) const {
-        const auto k = static_cast<size_t>((j - firstY_) * verticesX_ + (i - firstX_));
+        const auto k = static_cast<size_t>(j * verticesX_ + i - vertexOrigin_);
+        // At one metre per code the decoded height is the integer itself: decodeHeightCode's value exactly.
+        if (unitCodes_) return static_cast<float>(int32_t(codes_[k]) + codeOffset_);
         return codes_.empty() ? heightsM_[k] : decodeHeightCode(codes_[k], codeOffset_, codeScale_);
     }
     bool vertexValid(int64_t i, int64_t j) const {
-        return valid_.empty() || bit(valid_, (j - firstY_) * verticesX_ + (i - firstX_));
+        return valid_.empty() || bit(valid_, j * verticesX_ + i - vertexOrigin_);
     }
     // Cell (i, j) of the grid, which must be one of the tile's.
     bool cellValid(int64_t i, int64_t j) const {
-        return cellValid_.empty() || bit(cellValid_, (j - firstY_) * (verticesX_ - 1) + (i - firstX_));
+        return cellValid_.empty() || bit(cellValid_, j * (verticesX_ - 1) + i - cellOrigin_);
     }
     // The grid's pyramid codes (HeightGrid::PyramidView) for block (bi, bj) of level k, one of the tile's:
     // 1 <= k <= levels() (2 <= k for the minimum).
@@ -85,8 +88,7 @@ public:
 
 private:
     size_t blockIndex(int k, int64_t bi, int64_t bj) const {
-        return static_cast<size_t>(levelStart_[k - 1] + (bj - (firstY_ >> k)) * levelBlocksX_[k - 1] +
-                                   (bi - (firstX_ >> k)));
+        return static_cast<size_t>(levelOrigin_[k - 1] + bj * levelBlocksX_[k - 1] + bi);
     }
     void setValidity(const uint8_t* valid);
     [[noreturn]] void throwNoCode(size_t k, double heightM) const;
@@ -113,6 +115,12 @@ private:
     Array<int16_t> minCodes_;  // laid out alike (level 1's entries unused)
     int64_t levelStart_[kTileLevels] = {};
     int64_t levelBlocksX_[kTileLevels] = {};
+    // Where grid vertex (i, j) sits: j * verticesX_ + i - vertexOrigin_; cell (i, j): j * (verticesX_ - 1) + i -
+    // cellOrigin_; block (bi, bj) of level k: levelOrigin_[k - 1] + bj * levelBlocksX_[k - 1] + bi.
+    int64_t vertexOrigin_ = 0;
+    int64_t cellOrigin_ = 0;
+    int64_t levelOrigin_[kTileLevels] = {};
+    bool unitCodes_ = false;  // int16 codes at one metre each
 };
 
 }  // namespace terracast

@@ -7,7 +7,10 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <mutex>
+
+#include <tbb/global_control.h>
 
 namespace terracast {
 
@@ -56,6 +59,10 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
         // picture order, so that they read the same DEM tiles rather than those of two far parts of the picture.
         const int block = 4 * std::max(s.tileSize, 1);
         const int blocksX = (s.width + block - 1) / block, blocksY = (s.height + block - 1) / block;
+        std::unique_ptr<tbb::global_control> limit;
+        if (s.threads > 0)
+            limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                          static_cast<size_t>(s.threads));
         ranks::resetTasks();
         for (int64_t k = ranks::nextTask(); k < int64_t(blocksX) * blocksY; k = ranks::nextTask()) {
             const int bx = int(k % blocksX) * block, by = int(k / blocksX) * block;
