@@ -15,6 +15,9 @@ namespace terracast::dem_checks {
 // Heights farther than this from sea level (1000 km; the Earth's relief spans 20 km) are refused as a wrong
 // unit, scale or undeclared nodata: tracing them would lose all float precision on real terrain.
 constexpr double kMaxAbsHeightM = 1.0e6;
+// The largest height a vertical exaggeration may make (metres): far beyond any terrain, yet squares and products
+// of heights stay finite and precise enough in double.
+constexpr double kMaxExaggeratedHeightM = 1.0e12;
 
 // A raster too large to hold whole, with what the process held and the limit (loadDem holds it as tiles).
 struct RasterTooLarge : InputError {

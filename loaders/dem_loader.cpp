@@ -574,9 +574,8 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, c
     return dem;
 }
 
-}  // namespace
-
-LoadedDem loadDem(const std::string& path, const DemLoadOptions& options) {
+// loadDem before the exaggeration of a DEM held whole.
+LoadedDem loadAsStored(const std::string& path, const DemLoadOptions& options) {
     checkInputFile(path, "a DEM");
     const ExitOnCancel interruptible;  // GDAL may block (a network path); nothing is written yet
     // The one place where a format is chosen: PNG height maps through OpenImageIO, everything else through GDAL.
@@ -605,7 +604,7 @@ LoadedDem loadDem(const std::string& path, const DemLoadOptions& options) {
         // Every rank takes the same path (the whole load is collective): tiles only when every rank can.
         int64_t able = reader && reader->storedInBlocks() ? 1 : 0;
         ranks::sum(&able, 1);
-        if (able == ranks::size()) return openTiledDem(std::move(reader), size_t(cacheBytes));
+        if (able == ranks::size()) return openTiledDem(std::move(reader), size_t(cacheBytes), options.exaggeration);
     }
     // A raster too large to hold whole is held as tiles, with a quarter of the memory left for their cache.
     try {
@@ -618,6 +617,32 @@ LoadedDem loadDem(const std::string& path, const DemLoadOptions& options) {
                                          humanBytes(kMinTileCacheBytes)));
         return openTiledDem(path, size_t(cacheBytes), options);
     }
+}
+
+// Refuses a factor DemLoadOptions::exaggeration does not allow.
+void checkExaggeration(const std::string& path, double k) {
+    if (!(k > 0.0) || !std::isfinite(k))
+        throw InputError(fmt::format("{}: vertical exaggeration: expected a positive number, found {}", path, k));
+}
+
+// A DEM held whole under DemLoadOptions::exaggeration (one held as tiles is scaled as it is read).
+LoadedDem exaggerated(LoadedDem dem, double k) {
+    if (k == 1.0 || dem.grid.tiled()) return dem;
+    const HeightGrid& g = dem.grid;
+    const double top = std::max(std::abs(double(g.minHeightM())), std::abs(double(g.maxHeightM())));
+    if (!(double(float(k)) * top <= kMaxExaggeratedHeightM))
+        throw InputError(fmt::format("{}: a vertical exaggeration of {} makes heights of up to {:.0f} m unusable "
+                                     "(expected a factor that keeps them below {:.0e} m)",
+                                     dem.path, k, top, kMaxExaggeratedHeightM));
+    dem.grid.scaleHeights(float(k));
+    return dem;
+}
+
+}  // namespace
+
+LoadedDem loadDem(const std::string& path, const DemLoadOptions& options) {
+    checkExaggeration(path, options.exaggeration);
+    return exaggerated(loadAsStored(path, options), options.exaggeration);
 }
 
 LoadedDem loadDemFromBytes(std::string_view bytes, const std::string& name, const DemLoadOptions& options) {
@@ -636,7 +661,8 @@ LoadedDem loadDemFromBytes(std::string_view bytes, const std::string& name, cons
         const std::string& path;
         ~Unlink() { VSIUnlink(path.c_str()); }
     } unlink{memoryPath};
-    return loadWithGdal(name, options, memoryPath);
+    checkExaggeration(name, options.exaggeration);
+    return exaggerated(loadWithGdal(name, options, memoryPath), options.exaggeration);
 }
 
 MetresPerDegree metresPerDegree(double latDeg) {

@@ -44,6 +44,11 @@ struct DemLoadOptions {
     // what the memory limit leaves (maxBytes per process; the default limit shared by the machine's ranks).
     // No effect on one rank.
     bool tilesUnderRanks = false;
+    // Vertical exaggeration: every height multiplied by this factor (in float, as HeightGrid::scaleHeights
+    // does), after the whole load or, for a DEM held as tiles, as each tile is read (its summary, and the
+    // sidecar that keeps it, are those of the scaled heights). Positive and finite; a factor that makes a
+    // height larger than kMaxExaggeratedHeightM is refused.
+    double exaggeration = 1.0;
 };
 
 // A loaded DEM: plain data, no GDAL or OpenImageIO types.

@@ -98,9 +98,9 @@ LoadedSceneAssets loadSceneAssets(const SceneDescription& scene, double maxBytes
         options.imageCellSizeM = o.cellSizeM;
         options.imageHeightScale = o.heightScale;
         options.maxBytes = maxBytes;
+        options.exaggeration = o.exaggeration;
         try {
             LoadedDem dem = loadDem(o.filePath, options);
-            if (o.exaggeration != 1.0) dem.grid.scaleHeights(float(o.exaggeration));
             for (auto& w : dem.warnings) out.warnings.push_back(w);
             out.bytes += double(dem.grid.memoryBytes());
             out.geo.push_back(dem.geo);

@@ -56,7 +56,10 @@ bool take(std::string_view& in, T& value) {
 
 }  // namespace
 
-std::string summarySidecarPath(const std::string& demPath) { return demPath + ".terracast-summary"; }
+std::string summarySidecarPath(const std::string& demPath, double exaggeration) {
+    if (exaggeration == 1.0) return demPath + ".terracast-summary";
+    return fmt::format("{}.x{}.terracast-summary", demPath, exaggeration);
+}
 
 std::string summaryKey(const DemWindowReader& reader) {
     std::string key = fmt::format("{} {}x{} {} {}-endian;", reader.decodingKey(), reader.width(), reader.height(),

@@ -13,8 +13,9 @@
 
 namespace terracast {
 
-// The sidecar's path: the DEM's own with ".terracast-summary" appended.
-std::string summarySidecarPath(const std::string& demPath);
+// The sidecar's path: the DEM's own with ".terracast-summary" appended; for the heights under a vertical
+// exaggeration other than 1, ".xFACTOR.terracast-summary".
+std::string summarySidecarPath(const std::string& demPath, double exaggeration = 1.0);
 
 // The key a sidecar must carry to describe `reader`'s raster as it is now; empty when the raster has a file
 // that is not a local regular file (an in-memory or network source), which gets no sidecar.

@@ -1,5 +1,6 @@
 #include "loaders/tiled_dem.h"
 
+#include "loaders/dem_checks.h"
 #include "loaders/summary_sidecar.h"
 #include "tracer/core/cancel.h"
 #include "tracer/core/errors.h"
@@ -9,52 +10,91 @@
 #include <gdal.h>
 
 #include <algorithm>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
 #include <vector>
 
 namespace terracast {
 namespace {
 
+// Heights as the grid holds them under a vertical exaggeration `k` (a float product, as
+// HeightGrid::scaleHeights makes it); throws InputError for a valid height the factor makes unusable.
+void exaggerate(const std::string& path, float k, float* heightsM, const uint8_t* valid, size_t n) {
+    for (size_t q = 0; q < n; ++q) {
+        const float z = heightsM[q] * k;
+        if ((valid == nullptr || valid[q] != 0) && !(std::abs(z) <= dem_checks::kMaxExaggeratedHeightM))
+            throw InputError(fmt::format("{}: a vertical exaggeration of {} makes a height of {:.0f} m unusable "
+                                         "(expected a factor that keeps heights below {:.0e} m)",
+                                         path, k, std::abs(heightsM[q]), dem_checks::kMaxExaggeratedHeightM));
+        heightsM[q] = z;
+    }
+}
+
 // The summary from one pass over the raster, a band of rows at a time (about 16 MiB of heights and flags at
-// most).
-GridSummary streamSummary(const DemWindowReader& reader, const std::string& path) {
+// most), of the heights under a vertical exaggeration `k`. With k other than 1 the summary must choose the
+// storage the whole grid chooses after HeightGrid::scaleHeights: its int16 candidates are whole metres and the
+// factor times the unscaled grid's scale (its code scale when it was stored in int16, else the source's unit).
+// With the source in metres that is the factor either way; otherwise the unscaled grid's choice is made in the
+// same pass, beside both candidates for the scaled one.
+GridSummary streamSummary(const DemWindowReader& reader, const std::string& path, double k) {
     const int64_t width = reader.width(), height = reader.height();
-    GridSummaryBuilder builder(width, height, reader.metresPerUnit());
+    const double unit = reader.metresPerUnit();
+    const auto kf = static_cast<float>(k);
+    const double kd = double(kf);  // the factor scaleHeights multiplies its scale hint by
+    GridSummaryBuilder scaledByUnit(width, height, k == 1.0 ? unit : kd * unit);
+    std::optional<GridSummaryBuilder> unscaled, scaledByMetre;
+    if (k != 1.0 && unit != 1.0) {
+        unscaled.emplace(width, height, unit);
+        scaledByMetre.emplace(width, height, kd);
+    }
     const int64_t rowsPerBand = std::clamp<int64_t>((int64_t{16} << 20) / (5 * width), 1, kTileCells);
     std::vector<float> heights(static_cast<size_t>(rowsPerBand * width));
     std::vector<uint8_t> valid(heights.size());
     for (int64_t j0 = 0; j0 < height; j0 += rowsPerBand) {
         const int64_t rows = std::min(rowsPerBand, height - j0);
+        const auto n = static_cast<size_t>(rows * width);
         reader.read(0, j0, width, rows, heights.data(), valid.data());
         try {
-            builder.addRows(j0, rows, heights.data(), valid.data());
+            if (unscaled) unscaled->addRows(j0, rows, heights.data(), valid.data());
+            if (k != 1.0) exaggerate(path, kf, heights.data(), valid.data(), n);
+            scaledByUnit.addRows(j0, rows, heights.data(), valid.data());
+            if (scaledByMetre) scaledByMetre->addRows(j0, rows, heights.data(), valid.data());
         } catch (const GridError& e) {
             throw InputError(path + ": " + e.what());
         }
     }
-    return builder.finish();
+    if (!unscaled) return scaledByUnit.finish();
+    const GridSummary before = unscaled->finish();
+    const bool byMetre = before.storage == HeightStorage::Int16 && before.codeScale == 1.0;
+    return byMetre ? scaledByMetre->finish() : scaledByUnit.finish();
 }
 
 }  // namespace
 
 TiledDem::TiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options)
-    : TiledDem(std::make_unique<DemWindowReader>(path, options), cacheBytes) {}
+    : TiledDem(std::make_unique<DemWindowReader>(path, options), cacheBytes, options.exaggeration) {}
 
-TiledDem::TiledDem(std::unique_ptr<DemWindowReader> reader, size_t cacheBytes) : reader_(std::move(reader)) {
+TiledDem::TiledDem(std::unique_ptr<DemWindowReader> reader, size_t cacheBytes, double exaggeration)
+    : reader_(std::move(reader)), exaggeration_(exaggeration) {
+    if (!(exaggeration > 0.0) || !std::isfinite(exaggeration))
+        throw std::invalid_argument(fmt::format("vertical exaggeration must be positive and finite, got {}", exaggeration));
     const std::string& path = reader_->path();
     if (GDALGetCacheMax64() > kSourceBlockCacheBytes) GDALSetCacheMax64(kSourceBlockCacheBytes);
     const int64_t width = reader_->width(), height = reader_->height();
     layout_ = TileLayout{width, height};
     // The summary from the sidecar when it describes the DEM as it is now, else from one pass over the raster,
     // saved for the next open. Under mpirun the leader saves it.
-    const std::string sidecar = summarySidecarPath(path), key = summaryKey(*reader_);
+    const std::string sidecar = summarySidecarPath(path, exaggeration);
+    const std::string key = keyFor(*reader_);
     if (auto stored = readSummarySidecar(sidecar, key, width, height)) {
         summary_ = std::move(*stored);
         summaryOrigin_ = "read from " + sidecar;
     } else {
-        summary_ = streamSummary(*reader_, path);
+        summary_ = streamSummary(*reader_, path, exaggeration);
         if (!ranks::leader()) {
             summaryOrigin_ = "one pass over the raster, saved by rank 0 to " + sidecar;
-        } else if (summaryKey(*reader_) != key) {
+        } else if (keyFor(*reader_) != key) {
             // The files changed during the pass: what was read may be neither version.
             summaryOrigin_ = "one pass over the raster (not saved: the DEM changed while it was read)";
         } else {
@@ -72,6 +112,12 @@ TiledDem::TiledDem(std::unique_ptr<DemWindowReader> reader, size_t cacheBytes) :
         cacheBytes, [this](int64_t key) { return readTile(key); }, [](const HeightTile& t) { return t.bytes(); });
 }
 
+std::string TiledDem::keyFor(const DemWindowReader& reader) const {
+    std::string key = summaryKey(reader);
+    if (!key.empty() && exaggeration_ != 1.0) key += fmt::format(" exaggeration {:.17g};", exaggeration_);
+    return key;
+}
+
 std::shared_ptr<const HeightTile> TiledDem::tile(int64_t ti, int64_t tj) const {
     return cache_->getRecent(layout_.key(ti, tj));
 }
@@ -87,13 +133,14 @@ std::shared_ptr<const HeightTile> TiledDem::readTile(int64_t key) const {
     valid.resize(static_cast<size_t>(w * h));
     try {
         // 16-bit heights in metres for a grid of one metre per code go straight to codes; the rest as floats.
-        if (reader_->wholeMetres() && HeightTile::takesWholeMetres(summary_)) {
+        if (exaggeration_ == 1.0 && reader_->wholeMetres() && HeightTile::takesWholeMetres(summary_)) {
             metres.resize(valid.size());
             reader_->readWholeMetres(x0, y0, w, h, metres.data(), valid.data());
             return std::make_shared<const HeightTile>(summary_, x0, y0, w, h, metres.data(), valid.data());
         }
         heights.resize(valid.size());
         reader_->read(x0, y0, w, h, heights.data(), valid.data());
+        if (exaggeration_ != 1.0) exaggerate(reader_->path(), float(exaggeration_), heights.data(), valid.data(), valid.size());
         return std::make_shared<const HeightTile>(summary_, x0, y0, w, h, heights.data(), valid.data());
     } catch (const GridError& e) {
         throw InputError(reader_->path() + ": changed while open (" + e.what() + ")");
@@ -101,12 +148,12 @@ std::shared_ptr<const HeightTile> TiledDem::readTile(int64_t key) const {
 }
 
 LoadedDem openTiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options) {
-    return openTiledDem(std::make_unique<DemWindowReader>(path, options), cacheBytes);
+    return openTiledDem(std::make_unique<DemWindowReader>(path, options), cacheBytes, options.exaggeration);
 }
 
-LoadedDem openTiledDem(std::unique_ptr<DemWindowReader> opened, size_t cacheBytes) {
+LoadedDem openTiledDem(std::unique_ptr<DemWindowReader> opened, size_t cacheBytes, double exaggeration) {
     const std::string path = opened->path();
-    auto tiles = std::make_shared<const TiledDem>(std::move(opened), cacheBytes);
+    auto tiles = std::make_shared<const TiledDem>(std::move(opened), cacheBytes, exaggeration);
     const DemWindowReader& reader = tiles->reader();
     LoadedDem dem;
     dem.path = path;

@@ -23,9 +23,10 @@ public:
     static constexpr int64_t kSourceBlockCacheBytes = int64_t{16} << 20;
 
     // Opens `path` and streams it once; throws InputError as loadDem does (but never for the raster's size).
+    // Heights are those under options.exaggeration, in the summary and in every tile.
     TiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options = {});
     // The same over a raster already open.
-    TiledDem(std::unique_ptr<DemWindowReader> reader, size_t cacheBytes);
+    TiledDem(std::unique_ptr<DemWindowReader> reader, size_t cacheBytes, double exaggeration = 1.0);
 
     const DemWindowReader& reader() const { return *reader_; }
     const GridSummary& summary() const { return summary_; }
@@ -52,8 +53,11 @@ private:
         return tile(layout_.tileOfCellX(std::min(i, layout_.width - 2)), layout_.tileOfCellY(std::min(j, layout_.height - 2)));
     }
     std::shared_ptr<const HeightTile> readTile(int64_t key) const;
+    // The sidecar key: the raster's, and the exaggeration's.
+    std::string keyFor(const DemWindowReader& reader) const;
 
     std::unique_ptr<DemWindowReader> reader_;
+    double exaggeration_ = 1.0;
     GridSummary summary_;
     std::string summaryOrigin_;
     TileLayout layout_;
@@ -63,7 +67,7 @@ private:
 // Opens a DEM as a tiled grid (HeightGrid::tiled) over a TiledDem whose cache holds at most `cacheBytes` of
 // tiles: everything loadDem returns, with the heights left in the file. Throws InputError as loadDem does.
 LoadedDem openTiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options = {});
-// The same over a raster already open.
-LoadedDem openTiledDem(std::unique_ptr<DemWindowReader> reader, size_t cacheBytes);
+// The same over a raster already open, its heights under a vertical exaggeration.
+LoadedDem openTiledDem(std::unique_ptr<DemWindowReader> reader, size_t cacheBytes, double exaggeration = 1.0);
 
 }  // namespace terracast

@@ -105,14 +105,14 @@ TEST_CASE("MPI: ranks hold a DEM that fits as tiles when the job allows, and wri
     if (kSanitizedBuild) return;
     TempDir dir("mpi-tiles");
     // One process holds these DEMs whole; two ranks each read only the tiles their part reaches, except where
-    // the job needs the whole grid (the curved earth's lowered copy, vertical exaggeration, sky view).
+    // the job needs the whole grid (the curved earth's lowered copy, sky view).
     const struct {
         std::string args;
         std::string out;
         bool tiles;
     } jobs[] = {
         {"render '" + kHelens + "' --size 240x160 --sky-samples 2 --threads 1", "render.png", true},
-        {"render '" + kHelens + "' --size 240x160 --sky-samples 0 --threads 1 --exaggeration 2", "tall.png", false},
+        {"render '" + kHelens + "' --size 240x160 --sky-samples 0 --threads 1 --exaggeration 2", "tall.png", true},
         {"viewshed '" + kHelens + "' --observer 562000,5115000 --curvature-coeff 0 --threads 1", "flat.tif", true},
         {"viewshed '" + kHelens + "' --observer 562000,5115000 --threads 1", "curved.tif", false},
         {"svf '" + kHelens + "' --directions 8 --max-distance 300 --threads 1", "svf.tif", false},

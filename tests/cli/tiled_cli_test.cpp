@@ -54,6 +54,7 @@ TEST_CASE("Tiled DEM: every product from a cache of a few tiles is the whole gri
     checkSameBytes(dir, {"viewshed", kHelens, "--observer", "562000,5115000", "--curvature-coeff", "0"}, "viewshed.tif",
                    tiles);
     checkSameBytes(dir, {"render", kHelens, "--size", "160x120"}, "render.png", tiles);
+    checkSameBytes(dir, {"render", kHelens, "--size", "160x120", "--exaggeration", "2.5"}, "tall.png", tiles);
     checkSameBytes(dir, {"render", kHelens, "--view", "map", "--sky-samples", "2"}, "map.png", tiles);
     // The White Mountains: 5 x 5 tiles of a geographic .hgt.
     checkSameBytes(dir, {"shadow", kWhiteMountains, "--sun", "250,12"}, "shadow-wm.tif", {"--tile-cache", "1M"});

@@ -3,34 +3,45 @@
 #include "heightfield/traversal.h"
 #include "loaders/tiled_dem.h"
 #include "support/sanitizers.h"
+#include "support/temp_dir.h"
 #include "tracer/core/errors.h"
 
 #include <catch2/catch.hpp>
 #include <gdal.h>
 
 #include <bit>
+#include <filesystem>
 #include <cmath>
 #include <random>
 #include <string>
+#include <vector>
 
 using namespace terracast;
+using terracast::testing::TempDir;
 
 namespace {
 
 std::string sample(const std::string& name) { return std::string(TERRACAST_SOURCE_DIR "/data-samples/") + name; }
 
-// Every vertex and cell of the tiled DEM against the loaded grid, in an order that revisits evicted tiles.
-void checkAgainstLoad(const std::string& path, int cacheTiles) {
-    INFO(path);
-    const LoadedDem dem = loadDem(path);
+// Every vertex and cell of the tiled DEM against the loaded grid, in an order that revisits evicted tiles; both
+// under a vertical exaggeration `k`.
+void checkAgainstLoad(const std::string& path, int cacheTiles, double k = 1.0) {
+    INFO(path << " exaggerated " << k);
+    DemLoadOptions options;
+    options.exaggeration = k;
+    const LoadedDem dem = loadDem(path, options);
     const HeightGrid& g = dem.grid;
     // The bytes of a full tile (the first one is full in every DEM here).
-    const size_t tileBytes = TiledDem(path, size_t(1) << 30).tile(0, 0)->bytes();
+    const size_t tileBytes = TiledDem(path, size_t(1) << 30, options).tile(0, 0)->bytes();
     const size_t budget = size_t(cacheTiles) * tileBytes + tileBytes / 2;
-    const TiledDem tiled(path, budget);
+    const TiledDem tiled(path, budget, options);
     REQUIRE(tiled.layout().width == g.width());
     REQUIRE(tiled.layout().height == g.height());
+    // The storage the whole grid chose for the (scaled) heights, and their range.
     CHECK(tiled.summary().storage == g.storage());
+    CHECK(tiled.summary().codeScale == g.codeScale());
+    CHECK(tiled.summary().minHeightM == g.minHeightM());
+    CHECK(tiled.summary().maxHeightM == g.maxHeightM());
     CHECK(tiled.summary().validCells == g.validCellCount());
     int64_t heightsDiffer = 0, flagsDiffer = 0, cellsDiffer = 0;
     // Columns first: each column of vertices crosses every tile row, so tiles are evicted and read again. Under the
@@ -60,6 +71,59 @@ TEST_CASE("Tiled DEM: every vertex and cell flag equals the whole load's with a 
     checkAgainstLoad(sample("usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif"), 1);
     checkAgainstLoad(sample("N44W072.srtm3-white-mountains-nh.hgt"), 3);
     checkAgainstLoad(sample("srtm3-n43e007-nice-maritime-alps-coast-geographic-int16.tif"), 3);
+}
+
+TEST_CASE("Tiled DEM: under a vertical exaggeration every tile holds the whole exaggerated grid's heights",
+          "[loaders][tiles]") {
+    // Metres scaled by 2.5 (int16 codes at 2.5 m) and by 1/3 (floats); decimetres, stored in int16 with a band
+    // scale of 0.1, and decimetres that are whole metres (which the unscaled grid codes at 1 m), both doubled:
+    // the scaled grid's int16 scale follows the unscaled grid's choice.
+    const std::string helens = sample("usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif");
+    checkAgainstLoad(helens, 1, 2.5);
+    checkAgainstLoad(helens, 1, 1.0 / 3.0);
+    TempDir dir("tiled-exaggerated");
+    GDALAllRegister();
+    GDALDatasetH source = GDALOpen(helens.c_str(), GA_ReadOnly);
+    REQUIRE(source != nullptr);
+    const int w = GDALGetRasterXSize(source), h = GDALGetRasterYSize(source);
+    std::vector<double> z(size_t(w) * size_t(h));
+    REQUIRE(GDALRasterIO(GDALGetRasterBand(source, 1), GF_Read, 0, 0, w, h, z.data(), w, h, GDT_Float64, 0, 0) == CE_None);
+    double geo[6];
+    GDALGetGeoTransform(source, geo);
+    for (const bool wholeMetres : {false, true}) {
+        const std::string path = dir.file(wholeMetres ? "metres-in-dm.tif" : "dm.tif");
+        GDALDatasetH out = GDALCreate(GDALGetDriverByName("GTiff"), path.c_str(), w, h, 1, GDT_Int16, nullptr);
+        REQUIRE(out != nullptr);
+        GDALSetGeoTransform(out, geo);
+        GDALSetProjection(out, GDALGetProjectionRef(source));
+        GDALRasterBandH band = GDALGetRasterBand(out, 1);
+        GDALSetRasterScale(band, 0.1);
+        GDALSetRasterNoDataValue(band, -32768);
+        std::vector<int16_t> dm(z.size());
+        for (size_t q = 0; q < z.size(); ++q)
+            dm[q] = z[q] < -1000.0 ? int16_t(-32768) : int16_t(wholeMetres ? 10.0 * z[q] : 10.0 * z[q] + double(q % 7));
+        REQUIRE(GDALRasterIO(band, GF_Write, 0, 0, w, h, dm.data(), w, h, GDT_Int16, 0, 0) == CE_None);
+        GDALClose(out);
+        DemLoadOptions plain;
+        CHECK(loadDem(path, plain).grid.codeScale() == (wholeMetres ? 1.0 : 0.1));
+        checkAgainstLoad(path, 1, 2.0);
+    }
+    GDALClose(source);
+    // Each factor keeps its own sidecar beside the unscaled one.
+    CHECK_FALSE(std::filesystem::exists(dir.file("dm.tif.terracast-summary")));
+    CHECK(TiledDem(dir.file("dm.tif"), size_t(1) << 20).summary().codeScale == 0.1);
+    CHECK(std::filesystem::exists(dir.file("dm.tif.terracast-summary")));
+    CHECK(std::filesystem::exists(dir.file("dm.tif.x2.terracast-summary")));
+    DemLoadOptions doubled;
+    doubled.exaggeration = 2.0;
+    CHECK(TiledDem(dir.file("dm.tif"), size_t(1) << 20, doubled).summaryOrigin() ==
+          "read from " + dir.file("dm.tif.x2.terracast-summary"));
+    // A factor that makes a height unusable is refused with the DEM's name, held whole or as tiles.
+    doubled.exaggeration = 1e36;
+    CHECK_THROWS_WITH(TiledDem(helens, size_t(1) << 20, doubled),
+                      Catch::StartsWith(helens + ": a vertical exaggeration of 1e+36 makes a height of"));
+    CHECK_THROWS_WITH(loadDem(helens, doubled),
+                      Catch::StartsWith(helens + ": a vertical exaggeration of 1e+36 makes heights of up to 2543 m"));
 }
 
 TEST_CASE("Tiled DEM: opening refuses what loading refuses, without reading it whole", "[loaders][tiles]") {

@@ -61,11 +61,10 @@ void runCompareReport(const CompareRunOptions& o, const RunListener& listener) {
     std::error_code ec;
     if (!o.json.empty()) checkReportPath(o.json, o.dem.path);
     checkViewValues(o.exaggeration, o.sunElevationDeg);
-    LoadedDem dem = loadDemSource(o.dem, listener);
+    LoadedDem dem = loadDemSource(o.dem, listener, false, o.exaggeration);
     CompareSettings cs;
     cs.methods = o.methods;
-    cs.render = makeView(dem.grid, o.width, o.height, o.sunAzimuthDeg, o.sunElevationDeg, o.exaggeration, o.camera,
-                         o.threads);
+    cs.render = makeView(dem.grid, o.width, o.height, o.sunAzimuthDeg, o.sunElevationDeg, o.camera, o.threads);
     {
         // Every method keeps its picture and hit distances (12 + 8 bytes per pixel) plus per-pass buffers;
         // the largest acceleration structure is alive one at a time.

@@ -24,8 +24,9 @@
 
 namespace terracast {
 
-LoadedDem loadDemSource(const DemSource& source, const RunListener& listener, bool takesTiles) {
+LoadedDem loadDemSource(const DemSource& source, const RunListener& listener, bool takesTiles, double exaggeration) {
     DemLoadOptions lo;
+    lo.exaggeration = exaggeration;
     lo.maxBytes = source.maxMemoryBytes;
     lo.imageCellSizeM = source.imageCellSizeM;
     lo.imageHeightScale = source.imageHeightScale;
@@ -104,17 +105,8 @@ void checkViewValues(double exaggeration, double sunElevationDeg) {
         throw InputError(fmt::format("--sun: elevation must lie in [-90, 90] degrees, found {}", sunElevationDeg));
 }
 
-TerrainRenderSettings makeView(HeightGrid& grid, int width, int height, double sunAzimuthDeg, double sunElevationDeg,
-                               double exaggeration, const std::optional<PinholeCamera>& camera, int threads) {
-    if (exaggeration != 1.0) {
-        const float k = float(exaggeration);
-        const double top = std::max(std::abs(double(grid.minHeightM())), std::abs(double(grid.maxHeightM())));
-        if (!(k > 0.0f) || !std::isfinite(double(k) * top) || double(k) * top > 1e12)
-            throw InputError(fmt::format("--exaggeration: {} makes heights of up to {:.0f} m unusable (expected a "
-                                         "factor that keeps them below 1e12 m)",
-                                         exaggeration, top));
-        grid.scaleHeights(k);
-    }
+TerrainRenderSettings makeView(const HeightGrid& grid, int width, int height, double sunAzimuthDeg,
+                               double sunElevationDeg, const std::optional<PinholeCamera>& camera, int threads) {
     TerrainRenderSettings s;
     s.width = width;
     s.height = height;
@@ -165,11 +157,11 @@ void renderMap(const DemRenderOptions& o, const RunListener& listener) {
     if (!(o.hillshadeBlend >= 0.0 && o.hillshadeBlend <= 1.0))
         throw InputError(fmt::format("--hillshade-blend: expected 0..1, found {}", o.hillshadeBlend));
     checkSkySamples(o.skySamples);
-    LoadedDem dem = loadDemSource(o.dem, listener, onGrid && o.exaggeration == 1.0);
+    LoadedDem dem = loadDemSource(o.dem, listener, onGrid, o.exaggeration);
     double sunAzimuthDeg = o.sunAzimuthDeg, sunElevationDeg = o.sunElevationDeg;
     applySunTime(o, dem, sunAzimuthDeg, sunElevationDeg, listener);
     TerrainRenderSettings view =
-        makeView(dem.grid, 16, 16, sunAzimuthDeg, sunElevationDeg, o.exaggeration, std::nullopt, o.threads);
+        makeView(dem.grid, 16, 16, sunAzimuthDeg, sunElevationDeg, std::nullopt, o.threads);
     MapViewSettings m;
     m.scale = o.scale;
     m.sun = view.sun;
@@ -259,13 +251,12 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     if (!(o.haze >= 0.0 && o.haze <= 1000.0))
         throw InputError(fmt::format("--haze: expected a number in 0..1000, found {}", o.haze));
     if (o.resume) throw InputError("render --resume: only the map view as a GeoTIFF at --scale 1 can resume");
-    // Vertical exaggeration rescales the whole grid, and Embree's meshes read every vertex; otherwise the render
-    // reads only the tiles it sees.
-    LoadedDem dem = loadDemSource(o.dem, listener, o.exaggeration == 1.0 && directCellMethod(o.method).has_value());
+    // Embree's meshes read every vertex; the direct methods read only the tiles the render sees.
+    LoadedDem dem = loadDemSource(o.dem, listener, directCellMethod(o.method).has_value(), o.exaggeration);
     HeightGrid& grid = dem.grid;
     double sunAzimuthDeg = o.sunAzimuthDeg, sunElevationDeg = o.sunElevationDeg;
     applySunTime(o, dem, sunAzimuthDeg, sunElevationDeg, listener);
-    TerrainRenderSettings s = makeView(grid, o.width, o.height, sunAzimuthDeg, sunElevationDeg, o.exaggeration,
+    TerrainRenderSettings s = makeView(grid, o.width, o.height, sunAzimuthDeg, sunElevationDeg,
                                        o.camera, o.threads);
     s.sky.kind = o.sky;
     s.sky.haze = o.haze;

@@ -28,8 +28,10 @@ struct DemSource {
 
 // Loads the DEM, passing its warnings (assumed units, large geographic extents) to the listener. A job that
 // never needs the whole grid in memory says so with `takesTiles`: under mpirun each rank then holds the DEM as
-// tiles and reads only those its part of the work reaches (DemLoadOptions::tilesUnderRanks).
-LoadedDem loadDemSource(const DemSource& source, const RunListener& listener, bool takesTiles = false);
+// tiles and reads only those its part of the work reaches (DemLoadOptions::tilesUnderRanks). Heights come
+// multiplied by `exaggeration` (DemLoadOptions::exaggeration).
+LoadedDem loadDemSource(const DemSource& source, const RunListener& listener, bool takesTiles = false,
+                        double exaggeration = 1.0);
 
 // `info`: size, CRS, cell size, heights, nodata and memory, as lines of text.
 std::string demInfoReport(const DemSource& source, const RunListener& listener);
@@ -44,10 +46,10 @@ std::function<void(double, int64_t)> progressWithTiles(const RunListener& listen
 // Refuses (InputError) an exaggeration that is not a positive number or a sun elevation outside [-90, 90].
 void checkViewValues(double exaggeration, double sunElevationDeg);
 
-// Scales the loaded grid by `exaggeration` and makes the view: size, sun, and the camera given or, when none
-// is, the automatic view of the whole grid.
-TerrainRenderSettings makeView(HeightGrid& grid, int width, int height, double sunAzimuthDeg, double sunElevationDeg,
-                               double exaggeration, const std::optional<PinholeCamera>& camera, int threads);
+// The view of the loaded grid: size, sun, and the camera given or, when none is, the automatic view of the
+// whole grid.
+TerrainRenderSettings makeView(const HeightGrid& grid, int width, int height, double sunAzimuthDeg,
+                               double sunElevationDeg, const std::optional<PinholeCamera>& camera, int threads);
 
 // Everything `render` takes.
 struct DemRenderOptions {
