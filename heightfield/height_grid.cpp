@@ -200,6 +200,28 @@ bool HeightGrid::tryInt16(double s) {
     return true;
 }
 
+HeightGrid HeightGrid::transformed(const HeightTransform& t) const {
+    if (tiles_) {
+        GridSummary summary;
+        std::shared_ptr<const TileSource> source = tiles_->transformed(t, summary);
+        if (!source) throw GridError("this tiled grid's source cannot make a transformed copy of its heights");
+        return HeightGrid(summary, cellSizeXM_, cellSizeYM_, std::move(source));
+    }
+    std::vector<float> z = copyHeights();
+    for (int64_t j = 0; j < height_; ++j)
+        for (int64_t i = 0; i < width_; ++i) {
+            float& h = z[static_cast<size_t>(j * width_ + i)];
+            h = t.apply(h, i, j, cellSizeXM_, cellSizeYM_);
+        }
+    std::vector<uint8_t> valid;
+    if (hasNodata()) {
+        valid.resize(z.size());
+        for (int64_t j = 0; j < height_; ++j)
+            for (int64_t i = 0; i < width_; ++i) valid[static_cast<size_t>(j * width_ + i)] = vertexValid(i, j);
+    }
+    return HeightGrid(width_, height_, cellSizeXM_, cellSizeYM_, std::move(z), std::move(valid));
+}
+
 std::vector<float> HeightGrid::copyHeights() const {
     if (tiles_)
         throw GridError("this needs the whole DEM in memory, and it is held as tiles (it does not fit in "

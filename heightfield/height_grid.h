@@ -75,6 +75,28 @@ struct GridSummary;
 
 // Where a tiled grid's tiles come from (docs/architecture.md, "Tiled grids"): tile (ti, tj) holds cells
 // [ti * kTileCells, (ti + 1) * kTileCells) x .. (height_tile.h). Must be safe to call from several threads.
+// A change of every height, made vertex by vertex in float, for a job that traces a surface derived from the
+// terrain: upside down (the negative openness of sky view), or lowered by the earth's curvature (less refraction)
+// as seen from an observer (viewshed). HeightGrid::transformed makes the derived grid.
+struct HeightTransform {
+    bool upsideDown = false;      // z becomes -z
+    double curvatureCoeff = 0.0;  // then z loses float(coeff * d^2 / (2 R)), d the horizontal distance from the
+    double earthRadiusM = 0.0;    // observer (local metres) to the vertex
+    double observerXM = 0.0;
+    double observerYM = 0.0;
+
+    bool identity() const { return !upsideDown && curvatureCoeff == 0.0; }
+    // Vertex (i, j)'s height z under the transform, on a grid of the given cell sizes.
+    float apply(float z, int64_t i, int64_t j, double cellSizeXM, double cellSizeYM) const {
+        if (upsideDown) z = -z;
+        if (curvatureCoeff != 0.0) {
+            const double dx = double(i) * cellSizeXM - observerXM, dy = double(j) * cellSizeYM - observerYM;
+            z -= float(curvatureCoeff * (dx * dx + dy * dy) / (2.0 * earthRadiusM));
+        }
+        return z;
+    }
+};
+
 class TileSource {
 public:
     TileSource();
@@ -85,6 +107,13 @@ public:
     // What the source's cache holds and did so far, and the bytes it may hold.
     virtual TileCacheStats cacheStats() const = 0;
     virtual size_t cacheBudgetBytes() const = 0;
+    // The same heights under `t`, as a source of its own with a cache as large, its summary written to
+    // `summary`; nullptr when this source cannot make one.
+    virtual std::shared_ptr<const TileSource> transformed(const HeightTransform& t, GridSummary& summary) const {
+        (void)t;
+        (void)summary;
+        return nullptr;
+    }
 
 private:
     uint64_t serial_;
@@ -171,6 +200,9 @@ public:
     // Every vertex's height as float (nodata vertices hold an unspecified finite or given value). Throws
     // GridError for a tiled grid, which is never held whole.
     std::vector<float> copyHeights() const;
+    // The grid under `t`: a whole grid's copy (its storage chosen again), or for a tiled grid one over its source
+    // made transformed (TileSource::transformed; GridError when the source cannot).
+    HeightGrid transformed(const HeightTransform& t) const;
     bool hasNodata() const { return !valid_.empty(); }
     int64_t nodataVertexCount() const { return nodataVertices_; }
     int64_t validCellCount() const { return validCells_; }

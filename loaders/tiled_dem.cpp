@@ -31,20 +31,31 @@ void exaggerate(const std::string& path, float k, float* heightsM, const uint8_t
     }
 }
 
+// Window [i0, i0 + w) x [j0, j0 + h)'s heights under `t`.
+void transform(const DemWindowReader& reader, const HeightTransform& t, int64_t i0, int64_t j0, int64_t w, int64_t h,
+               float* heightsM) {
+    for (int64_t r = 0; r < h; ++r)
+        for (int64_t c = 0; c < w; ++c) {
+            float& z = heightsM[r * w + c];
+            z = t.apply(z, i0 + c, j0 + r, reader.cellSizeXM(), reader.cellSizeYM());
+        }
+}
+
 // The summary from one pass over the raster, a band of rows at a time (about 16 MiB of heights and flags at
 // most), of the heights under a vertical exaggeration `k`. With k other than 1 the summary must choose the
 // storage the whole grid chooses after HeightGrid::scaleHeights: its int16 candidates are whole metres and the
 // factor times the unscaled grid's scale (its code scale when it was stored in int16, else the source's unit).
 // With the source in metres that is the factor either way; otherwise the unscaled grid's choice is made in the
-// same pass, beside both candidates for the scaled one.
-GridSummary streamSummary(const DemWindowReader& reader, const std::string& path, double k) {
+// same pass, beside both candidates for the scaled one. Under a transform `t` as well, the summary is that of
+// HeightGrid::transformed's copy, whose only int16 candidate is whole metres.
+GridSummary streamSummary(const DemWindowReader& reader, const std::string& path, double k, const HeightTransform& t) {
     const int64_t width = reader.width(), height = reader.height();
     const double unit = reader.metresPerUnit();
     const auto kf = static_cast<float>(k);
     const double kd = double(kf);  // the factor scaleHeights multiplies its scale hint by
-    GridSummaryBuilder scaledByUnit(width, height, k == 1.0 ? unit : kd * unit);
+    GridSummaryBuilder scaledByUnit(width, height, !t.identity() ? 0.0 : k == 1.0 ? unit : kd * unit);
     std::optional<GridSummaryBuilder> unscaled, scaledByMetre;
-    if (k != 1.0 && unit != 1.0) {
+    if (t.identity() && k != 1.0 && unit != 1.0) {
         unscaled.emplace(width, height, unit);
         scaledByMetre.emplace(width, height, kd);
     }
@@ -58,6 +69,7 @@ GridSummary streamSummary(const DemWindowReader& reader, const std::string& path
         try {
             if (unscaled) unscaled->addRows(j0, rows, heights.data(), valid.data());
             if (k != 1.0) exaggerate(path, kf, heights.data(), valid.data(), n);
+            if (!t.identity()) transform(reader, t, 0, j0, width, rows, heights.data());
             scaledByUnit.addRows(j0, rows, heights.data(), valid.data());
             if (scaledByMetre) scaledByMetre->addRows(j0, rows, heights.data(), valid.data());
         } catch (const GridError& e) {
@@ -76,7 +88,11 @@ TiledDem::TiledDem(const std::string& path, size_t cacheBytes, const DemLoadOpti
     : TiledDem(std::make_unique<DemWindowReader>(path, options), cacheBytes, options.exaggeration) {}
 
 TiledDem::TiledDem(std::unique_ptr<DemWindowReader> reader, size_t cacheBytes, double exaggeration)
-    : reader_(std::move(reader)), exaggeration_(exaggeration) {
+    : TiledDem(std::shared_ptr<const DemWindowReader>(std::move(reader)), cacheBytes, exaggeration, HeightTransform{}) {}
+
+TiledDem::TiledDem(std::shared_ptr<const DemWindowReader> reader, size_t cacheBytes, double exaggeration,
+                   const HeightTransform& transform)
+    : reader_(std::move(reader)), exaggeration_(exaggeration), transform_(transform) {
     if (!(exaggeration > 0.0) || !std::isfinite(exaggeration))
         throw std::invalid_argument(fmt::format("vertical exaggeration must be positive and finite, got {}", exaggeration));
     const std::string& path = reader_->path();
@@ -84,14 +100,17 @@ TiledDem::TiledDem(std::unique_ptr<DemWindowReader> reader, size_t cacheBytes, d
     const int64_t width = reader_->width(), height = reader_->height();
     layout_ = TileLayout{width, height};
     // The summary from the sidecar when it describes the DEM as it is now, else from one pass over the raster,
-    // saved for the next open. Under mpirun the leader saves it.
+    // saved for the next open (under mpirun by the leader). Transformed heights belong to one job: no sidecar.
     const std::string sidecar = summarySidecarPath(path, exaggeration);
     const std::string key = keyFor(*reader_);
-    if (auto stored = readSummarySidecar(sidecar, key, width, height)) {
+    if (!transform_.identity()) {
+        summary_ = streamSummary(*reader_, path, exaggeration, transform_);
+        summaryOrigin_ = "one pass over the raster, its heights transformed for this job (not saved)";
+    } else if (auto stored = readSummarySidecar(sidecar, key, width, height)) {
         summary_ = std::move(*stored);
         summaryOrigin_ = "read from " + sidecar;
     } else {
-        summary_ = streamSummary(*reader_, path, exaggeration);
+        summary_ = streamSummary(*reader_, path, exaggeration, transform_);
         if (!ranks::leader()) {
             summaryOrigin_ = "one pass over the raster, saved by rank 0 to " + sidecar;
         } else if (keyFor(*reader_) != key) {
@@ -118,6 +137,50 @@ std::string TiledDem::keyFor(const DemWindowReader& reader) const {
     return key;
 }
 
+std::shared_ptr<const TileSource> TiledDem::transformed(const HeightTransform& t, GridSummary& summary) const {
+    if (!transform_.identity()) return nullptr;  // one transform at a time, as for whole grids' copies
+    auto copy = std::make_shared<TiledDem>(reader_, cacheBudgetBytes(), exaggeration_, t);
+    copy->copies_ = copies_;
+    summary = copy->summary();
+    std::lock_guard lock(copies_->mutex);
+    std::erase_if(copies_->alive, [](const std::weak_ptr<const TiledDem>& c) { return c.expired(); });
+    copies_->alive.push_back(copy);
+    return copy;
+}
+
+namespace {
+
+void add(TileCacheStats& sum, const TileCacheStats& s) {
+    sum.hits += s.hits;
+    sum.loads += s.loads;
+    sum.evictions += s.evictions;
+    sum.bytes += s.bytes;
+    sum.peakBytes += s.peakBytes;  // an upper bound on the peak of the sum
+    sum.tiles += s.tiles;
+}
+
+}  // namespace
+
+TiledDem::~TiledDem() {
+    if (!transform_.identity() && cache_) {
+        std::lock_guard lock(copies_->mutex);
+        TileCacheStats mine = cache_->stats();
+        mine.bytes = 0;
+        mine.tiles = 0;
+        add(copies_->gone, mine);
+    }
+}
+
+TileCacheStats TiledDem::cacheStats() const {
+    TileCacheStats sum = cache_->stats();
+    if (!transform_.identity()) return sum;
+    std::lock_guard lock(copies_->mutex);
+    add(sum, copies_->gone);
+    for (const auto& weak : copies_->alive)
+        if (const auto copy = weak.lock()) add(sum, copy->cache_->stats());
+    return sum;
+}
+
 std::shared_ptr<const HeightTile> TiledDem::tile(int64_t ti, int64_t tj) const {
     return cache_->getRecent(layout_.key(ti, tj));
 }
@@ -133,7 +196,8 @@ std::shared_ptr<const HeightTile> TiledDem::readTile(int64_t key) const {
     valid.resize(static_cast<size_t>(w * h));
     try {
         // 16-bit heights in metres for a grid of one metre per code go straight to codes; the rest as floats.
-        if (exaggeration_ == 1.0 && reader_->wholeMetres() && HeightTile::takesWholeMetres(summary_)) {
+        if (exaggeration_ == 1.0 && transform_.identity() && reader_->wholeMetres() &&
+            HeightTile::takesWholeMetres(summary_)) {
             metres.resize(valid.size());
             reader_->readWholeMetres(x0, y0, w, h, metres.data(), valid.data());
             return std::make_shared<const HeightTile>(summary_, x0, y0, w, h, metres.data(), valid.data());
@@ -141,6 +205,7 @@ std::shared_ptr<const HeightTile> TiledDem::readTile(int64_t key) const {
         heights.resize(valid.size());
         reader_->read(x0, y0, w, h, heights.data(), valid.data());
         if (exaggeration_ != 1.0) exaggerate(reader_->path(), float(exaggeration_), heights.data(), valid.data(), valid.size());
+        if (!transform_.identity()) transform(*reader_, transform_, x0, y0, w, h, heights.data());
         return std::make_shared<const HeightTile>(summary_, x0, y0, w, h, heights.data(), valid.data());
     } catch (const GridError& e) {
         throw InputError(reader_->path() + ": changed while open (" + e.what() + ")");

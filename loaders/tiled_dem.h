@@ -3,6 +3,9 @@
 // least-recently-used cache bounded in bytes. Nothing in proportion to the raster is ever held.
 #pragma once
 
+#include <mutex>
+#include <vector>
+
 #include "heightfield/grid_summary.h"
 #include "heightfield/height_tile.h"
 #include "heightfield/tile_cache.h"
@@ -27,6 +30,11 @@ public:
     TiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options = {});
     // The same over a raster already open.
     TiledDem(std::unique_ptr<DemWindowReader> reader, size_t cacheBytes, double exaggeration = 1.0);
+    // Over a raster another TiledDem reads too, its heights under `transform` after the exaggeration (the
+    // summary streamed for them, never kept in a sidecar).
+    TiledDem(std::shared_ptr<const DemWindowReader> reader, size_t cacheBytes, double exaggeration,
+             const HeightTransform& transform);
+    ~TiledDem() override;
 
     const DemWindowReader& reader() const { return *reader_; }
     const GridSummary& summary() const { return summary_; }
@@ -45,8 +53,12 @@ public:
         return tile(layout_.tileOfCellX(i), layout_.tileOfCellY(j))->cellValid(i, j);
     }
 
-    TileCacheStats cacheStats() const override { return cache_->stats(); }
+    // This DEM's cache and those of the transformed copies made from it (alive or gone), summed: a job's tile
+    // traffic.
+    TileCacheStats cacheStats() const override;
     size_t cacheBudgetBytes() const override { return cache_->budgetBytes(); }
+    // A TiledDem over the same raster under `t` (nullptr for one already transformed).
+    std::shared_ptr<const TileSource> transformed(const HeightTransform& t, GridSummary& summary) const override;
 
 private:
     std::shared_ptr<const HeightTile> vertexTile(int64_t i, int64_t j) const {
@@ -56,8 +68,17 @@ private:
     // The sidecar key: the raster's, and the exaggeration's.
     std::string keyFor(const DemWindowReader& reader) const;
 
-    std::unique_ptr<DemWindowReader> reader_;
+    // The copies made by transformed(), for cacheStats: those alive, and what the gone ones did.
+    struct Copies {
+        std::mutex mutex;
+        std::vector<std::weak_ptr<const TiledDem>> alive;
+        TileCacheStats gone;
+    };
+
+    std::shared_ptr<const DemWindowReader> reader_;
     double exaggeration_ = 1.0;
+    HeightTransform transform_;
+    std::shared_ptr<Copies> copies_ = std::make_shared<Copies>();  // shared by a DEM and its copies
     GridSummary summary_;
     std::string summaryOrigin_;
     TileLayout layout_;

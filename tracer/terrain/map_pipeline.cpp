@@ -262,7 +262,8 @@ void writeSkyViewMap(const SkyViewMapOptions& o, const RunListener& listener) {
     SkyViewSettings s;
     s.search = searchFrom(o.maxDistanceM, o.curvatureCoeff, "svf");
     s.method = requireDirectMethod(o.method, "svf");
-    const LoadedDem dem = loadDemSource(o.dem, listener);
+    // The terrain upside down is a copy of the grid: for tiles, a second tile cache over the same source.
+    const LoadedDem dem = loadDemSource(o.dem, listener, true);
     const double radius = o.maxDistanceM > 0.0 ? o.maxDistanceM
                                                : 10.0 * std::max(dem.grid.cellSizeXM(), dem.grid.cellSizeYM());
     s.search.maxDistanceM = radius;
@@ -427,8 +428,9 @@ void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) 
         throw InputError(fmt::format("viewshed --max-distance: expected metres >= 0, found {}", o.maxDistanceM));
     ViewshedSettings s;
     s.method = requireDirectMethod(o.method, "viewshed");
-    // The curved earth traces a lowered copy of the whole grid; a flat one reads only the tiles it needs.
-    const LoadedDem dem = loadDemSource(o.dem, listener, o.curvatureCoeff == 0.0);
+    // The curved earth traces a lowered copy of the grid (for tiles, a second tile cache over the same source);
+    // either reads only the tiles it needs.
+    const LoadedDem dem = loadDemSource(o.dem, listener, true);
     // The observers: one from --observer, or every point of --observers.
     std::vector<SitePoint> sites;
     if (!o.observersFile.empty()) {
@@ -450,11 +452,12 @@ void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) 
     s.maxDistanceM = o.maxDistanceM;
     s.threads = o.threads;
     // With many observers, each one's raster beside the running count; with curvature, a lowered copy of the
-    // grid (heights as floats, their validity and pyramid).
-    checkRasterJob(dem, o.dem.maxMemoryBytes, observers.size() > 1 ? 2 : 1, RasterType::Float32,
-                   s.curvatureCoeff != 0.0 ? double(dem.grid.memoryBytes()) +
-                                                 5.0 * double(dem.grid.width()) * double(dem.grid.height())
-                                           : 0.0,
+    // grid (heights as floats, their validity and pyramid; for tiles, a second cache).
+    const double loweredBytes =
+        s.curvatureCoeff == 0.0 ? 0.0
+        : dem.grid.tiled()      ? double(dem.grid.tileSource()->cacheBudgetBytes())
+                                : double(dem.grid.memoryBytes()) + 5.0 * double(dem.grid.width()) * double(dem.grid.height());
+    checkRasterJob(dem, o.dem.maxMemoryBytes, observers.size() > 1 ? 2 : 1, RasterType::Float32, loweredBytes,
                    "the viewshed");
     listener.at("viewshed");
     const auto start = std::chrono::steady_clock::now();

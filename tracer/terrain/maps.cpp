@@ -309,16 +309,9 @@ std::function<MapRaster(const VertexWindow&, const MapProgress&)> skyViewMaker(c
     if (!exactAtVertices(s.method)) throw GridError("sky-view factor and openness need a surface through the vertices, not nearest");
     if (s.directions < 1) throw GridError("sky-view factor: at least one direction is needed");
     // The terrain upside down, for the lowest elevation angles of the negative openness.
-    std::vector<float> flipped = grid.copyHeights();
-    for (float& z : flipped) z = -z;
-    std::vector<uint8_t> valid;
-    if (grid.hasNodata()) {
-        valid.resize(flipped.size());
-        for (int64_t j = 0; j < grid.height(); ++j)
-            for (int64_t i = 0; i < grid.width(); ++i) valid[size_t(j * grid.width() + i)] = grid.vertexValid(i, j);
-    }
-    const auto below = std::make_shared<const HeightGrid>(grid.width(), grid.height(), grid.cellSizeXM(),
-                                                          grid.cellSizeYM(), std::move(flipped), std::move(valid));
+    HeightTransform upsideDown;
+    upsideDown.upsideDown = true;
+    const auto below = std::make_shared<const HeightGrid>(grid.transformed(upsideDown));
     HorizonSearch belowSearch = s.search;
     belowSearch.dropPerSquareM = -s.search.dropPerSquareM;  // the earth's drop lifts the upside-down terrain
     std::vector<double> azimuths;

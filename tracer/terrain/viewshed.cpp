@@ -22,20 +22,12 @@ std::function<MapRaster(const VertexWindow&, const MapProgress&)> viewshedMaker(
     const HeightGrid* g = &grid;
     std::shared_ptr<const HeightGrid> curved;
     if (s.curvatureCoeff != 0.0) {
-        std::vector<float> z = grid.copyHeights();
-        std::vector<uint8_t> valid;
-        if (grid.hasNodata()) {
-            valid.resize(z.size());
-            for (int64_t j = 0; j < grid.height(); ++j)
-                for (int64_t i = 0; i < grid.width(); ++i) valid[size_t(j * grid.width() + i)] = grid.vertexValid(i, j);
-        }
-        for (int64_t j = 0; j < grid.height(); ++j)
-            for (int64_t i = 0; i < grid.width(); ++i) {
-                const double dx = double(i) * grid.cellSizeXM() - s.observerXM, dy = double(j) * grid.cellSizeYM() - s.observerYM;
-                z[size_t(j * grid.width() + i)] -= float(s.curvatureCoeff * (dx * dx + dy * dy) / (2.0 * s.earthRadiusM));
-            }
-        curved = std::make_shared<const HeightGrid>(grid.width(), grid.height(), grid.cellSizeXM(), grid.cellSizeYM(),
-                                                    std::move(z), std::move(valid));
+        HeightTransform lower;
+        lower.curvatureCoeff = s.curvatureCoeff;
+        lower.earthRadiusM = s.earthRadiusM;
+        lower.observerXM = s.observerXM;
+        lower.observerYM = s.observerYM;
+        curved = std::make_shared<const HeightGrid>(grid.transformed(lower));
         g = curved.get();
     }
     const auto ground = surfacePointAt(*g, s.observerXM, s.observerYM, s.method);
