@@ -73,8 +73,6 @@ int pyramidLevelCount(int64_t cellsX, int64_t cellsY);
 class HeightTile;
 struct GridSummary;
 
-// Where a tiled grid's tiles come from (docs/architecture.md, "Tiled grids"): tile (ti, tj) holds cells
-// [ti * kTileCells, (ti + 1) * kTileCells) x .. (height_tile.h). Must be safe to call from several threads.
 // A change of every height, made vertex by vertex in float, for a job that traces a surface derived from the
 // terrain: upside down (the negative openness of sky view), or lowered by the earth's curvature (less refraction)
 // as seen from an observer (viewshed). HeightGrid::transformed makes the derived grid.
@@ -97,6 +95,8 @@ struct HeightTransform {
     }
 };
 
+// Where a tiled grid's tiles come from (docs/architecture.md, "Tiled grids"): tile (ti, tj) holds cells
+// [ti * kTileCells, (ti + 1) * kTileCells) x .. (height_tile.h). Must be safe to call from several threads.
 class TileSource {
 public:
     TileSource();

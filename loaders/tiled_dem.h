@@ -3,9 +3,6 @@
 // least-recently-used cache bounded in bytes. Nothing in proportion to the raster is ever held.
 #pragma once
 
-#include <mutex>
-#include <vector>
-
 #include "heightfield/grid_summary.h"
 #include "heightfield/height_tile.h"
 #include "heightfield/tile_cache.h"
@@ -14,7 +11,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <vector>
 
 namespace terracast {
 
