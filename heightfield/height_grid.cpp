@@ -208,17 +208,13 @@ HeightGrid HeightGrid::transformed(const HeightTransform& t) const {
         return HeightGrid(summary, cellSizeXM_, cellSizeYM_, std::move(source));
     }
     std::vector<float> z = copyHeights();
+    std::vector<uint8_t> valid(hasNodata() ? z.size() : 0);
     for (int64_t j = 0; j < height_; ++j)
         for (int64_t i = 0; i < width_; ++i) {
-            float& h = z[static_cast<size_t>(j * width_ + i)];
-            h = t.apply(h, i, j, cellSizeXM_, cellSizeYM_);
+            const auto k = static_cast<size_t>(j * width_ + i);
+            z[k] = t.apply(z[k], i, j, cellSizeXM_, cellSizeYM_);
+            if (!valid.empty()) valid[k] = vertexValid(i, j);
         }
-    std::vector<uint8_t> valid;
-    if (hasNodata()) {
-        valid.resize(z.size());
-        for (int64_t j = 0; j < height_; ++j)
-            for (int64_t i = 0; i < width_; ++i) valid[static_cast<size_t>(j * width_ + i)] = vertexValid(i, j);
-    }
     return HeightGrid(width_, height_, cellSizeXM_, cellSizeYM_, std::move(z), std::move(valid));
 }
 

@@ -109,9 +109,7 @@ public:
     virtual size_t cacheBudgetBytes() const = 0;
     // The same heights under `t`, as a source of its own with a cache as large, its summary written to
     // `summary`; nullptr when this source cannot make one.
-    virtual std::shared_ptr<const TileSource> transformed(const HeightTransform& t, GridSummary& summary) const {
-        (void)t;
-        (void)summary;
+    virtual std::shared_ptr<const TileSource> transformed(const HeightTransform&, GridSummary&) const {
         return nullptr;
     }
 

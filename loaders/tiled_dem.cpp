@@ -34,10 +34,11 @@ void exaggerate(const std::string& path, float k, float* heightsM, const uint8_t
 // Window [i0, i0 + w) x [j0, j0 + h)'s heights under `t`.
 void transform(const DemWindowReader& reader, const HeightTransform& t, int64_t i0, int64_t j0, int64_t w, int64_t h,
                float* heightsM) {
+    const double cellSizeXM = reader.cellSizeXM(), cellSizeYM = reader.cellSizeYM();
     for (int64_t r = 0; r < h; ++r)
         for (int64_t c = 0; c < w; ++c) {
             float& z = heightsM[r * w + c];
-            z = t.apply(z, i0 + c, j0 + r, reader.cellSizeXM(), reader.cellSizeYM());
+            z = t.apply(z, i0 + c, j0 + r, cellSizeXM, cellSizeYM);
         }
 }
 

@@ -67,7 +67,8 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
         for (int64_t k = ranks::nextTask(); k < int64_t(blocksX) * blocksY; k = ranks::nextTask()) {
             const int bx = int(k % blocksX) * block, by = int(k / blocksX) * block;
             const int bw = std::min(block, s.width - bx), bh = std::min(block, s.height - by);
-            parallelForTiles(bw, bh, s.tileSize, s.threads, [&](int x0, int y0, int x1, int y1) {
+            // The thread limit is set above, once for every block.
+            parallelForTiles(bw, bh, s.tileSize, 0, [&](int x0, int y0, int x1, int y1) {
                 renderTile(bx + x0, by + y0, bx + x1, by + y1);
             });
         }
