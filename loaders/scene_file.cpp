@@ -134,10 +134,11 @@ constexpr std::array<Choice<FresnelModel>, 2> kFresnelModels{{
     {"exact", FresnelModel::Exact},
 }};
 
-constexpr std::array<Choice<TerrainColouring>, 3> kTerrainColourings{{
+constexpr std::array<Choice<TerrainColouring>, 4> kTerrainColourings{{
     {"elevation", TerrainColouring::Elevation},
     {"slope", TerrainColouring::Slope},
     {"drape", TerrainColouring::Drape},
+    {"color", TerrainColouring::Plain},
 }};
 
 const std::vector<KeyRule> kMaterialKeys{
@@ -183,10 +184,29 @@ void parseTerrainColouring(const TomlFile& scene, const TableReader& t, Material
         t.fail(t.valueWhere("terrain"), "terrain: \"drape\" needs a raster to drape (drape = \"file.tif\")");
     } else if (colouring) {
         m.terrain = *colouring;
+    } else if (t.has("color")) {
+        m.terrain = TerrainColouring::Plain;  // a colour given for terrain is the terrain's colour
     }
 }
 
-MaterialDescription parseMaterial(const TomlFile& scene, const TableReader& t) {
+// Energy (docs/scene-format.md, "Energy"): the light a surface sends back, over all its terms, is at most what
+// it receives when kd x max(color) + ks + max(mirror) + (1 for a dielectric, whose Fresnel reflection and
+// transmission sum to one) is at most 1. The diffuse weight not given is the largest up to 1 that the other
+// terms leave room for; a sum above 1 from weights the file gives is a warning.
+void balanceEnergy(const TableReader& t, MaterialDescription& m, std::vector<std::string>& warnings) {
+    const float mirror = std::max({m.mirror.r, m.mirror.g, m.mirror.b});
+    const float others = m.ks + mirror + (m.dielectric ? 1.0f : 0.0f);
+    const float colour = std::max({m.colour.r, m.colour.g, m.colour.b});
+    if (!t.has("kd")) m.kd = colour <= 1.0f - others ? 1.0f : std::max(0.0f, (1.0f - others) / colour);
+    const double sum = double(m.kd) * colour + others;
+    if (sum > 1.0 + 1e-6)
+        warnings.push_back(t.located(
+            t.where(), fmt::format("material {}: kd x max(color) + ks + max(mirror){} = {:.3g}, above 1: the surface "
+                                   "sends back more light than it receives (lower kd, color, ks or mirror)",
+                                   quoteString(m.name), m.dielectric ? " + 1 (dielectric)" : "", sum)));
+}
+
+MaterialDescription parseMaterial(const TomlFile& scene, const TableReader& t, std::vector<std::string>& warnings) {
     checkKeys(t, kMaterialKeys, "", "");
     MaterialDescription m;
     m.where = t.where();
@@ -200,6 +220,7 @@ MaterialDescription parseMaterial(const TomlFile& scene, const TableReader& t) {
     if (const auto g = t.singleNumber("gloss", kNonNegative)) m.gloss = *g;
     parseDielectric(t, m);
     parseTerrainColouring(scene, t, m);
+    balanceEnergy(t, m, warnings);
     return m;
 }
 
@@ -624,7 +645,7 @@ SceneDescription parseSceneText(std::string_view text, const std::string& pathFo
 
     MaterialIndex materials;
     forEachTable(scene, root, "material", [&](const TableReader& t, size_t) {
-        MaterialDescription m = parseMaterial(scene, t);
+        MaterialDescription m = parseMaterial(scene, t, description.warnings);
         const auto [first, inserted] = materials.emplace(m.name, t.valueWhere("name"));
         if (!inserted)
             t.fail(t.valueWhere("name"), fmt::format("name: material {} is already defined at line {}",
@@ -644,6 +665,8 @@ SceneDescription parseSceneText(std::string_view text, const std::string& pathFo
     const auto& objects = description.objects;
     const bool hasTerrain = std::any_of(objects.begin(), objects.end(),
                                         [](const ObjectDescription& o) { return o.kind == ObjectKind::HeightField; });
+    if (objects.empty())
+        description.warnings.push_back(pathForMessages + ": the scene has no [[object]]: the picture shows only the sky");
     for (const auto& o : objects)
         if (o.kind == ObjectKind::Water && !hasTerrain)
             scene.fail(o.where, "a water object needs a heightfield object in the scene (it is clipped to the "

@@ -103,7 +103,11 @@ public:
         : path_(std::move(path)), baseDir_(std::move(baseDir)), anyPath_(anyPath) {}
 
     [[noreturn]] void fail(SourceLocation where, const std::string& message) const {
-        throw InputError(fmt::format("{}:{}:{}: {}", path_, where.line, where.column, message));
+        throw InputError(located(where, message));
+    }
+    // "file:line:column: message", as errors and warnings about the file read.
+    std::string located(SourceLocation where, const std::string& message) const {
+        return fmt::format("{}:{}:{}: {}", path_, where.line, where.column, message);
     }
 
     // A path from the file, made relative to the file's folder unless it is absolute.
@@ -162,6 +166,7 @@ public:
     const toml::node* node(std::string_view key) const { return table_.get(key); }
 
     [[noreturn]] void fail(SourceLocation where, const std::string& message) const { file_.fail(where, message); }
+    std::string located(SourceLocation where, const std::string& message) const { return file_.located(where, message); }
 
     SourceLocation keyWhere(std::string_view key) const {
         for (auto&& [k, v] : table_)

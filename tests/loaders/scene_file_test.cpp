@@ -58,7 +58,7 @@ TEST_CASE("Scene file: a full example parses to the structs it states", "[loader
     CHECK(glass.ior == glm::vec3(1.51f, 1.52f, 1.53f));
     CHECK(glass.absorptionPerM == glm::vec3(0.1f, 0.2f, 0.3f));
     CHECK(glass.fresnel == FresnelModel::Exact);
-    CHECK(glass.terrain == TerrainColouring::Elevation);
+    CHECK(glass.terrain == TerrainColouring::Plain);  // a colour given is a height field's colour too
     CHECK(at(glass.where, 12, 1));
     CHECK(s.materials[1].name == "rock");
     CHECK(s.materials[1].terrain == TerrainColouring::Slope);
@@ -68,6 +68,10 @@ TEST_CASE("Scene file: a full example parses to the structs it states", "[loader
     CHECK(photo.drapePath == folder.file("ortho.tif"));
     CHECK(at(photo.drapeWhere, 30, 1));
     CHECK(photo.mirror == glm::vec3(0.1f, 0.2f, 0.3f));
+    CHECK(photo.kd == Approx(0.875));  // (1 - 0.3) / 0.8: all of the default colour and the mirror would exceed 1
+    // The glass's weights add up to more than 1 (0.1 + 0.5 + 0.25 + 1): a warning at its table.
+    REQUIRE(s.warnings.size() == 1);
+    CHECK_THAT(s.warnings[0], Catch::StartsWith("scene.toml:12:1: material \"glass\": kd x max(color) + ks"));
     const MaterialDescription& lake = s.materials[3];
     CHECK(lake.dielectric);
     CHECK_FALSE(lake.dispersive);

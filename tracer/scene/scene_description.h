@@ -37,7 +37,7 @@ struct CameraDescription {
 };
 
 enum class FresnelModel { Schlick, Exact };
-enum class TerrainColouring { Elevation, Slope, Drape };
+enum class TerrainColouring { Elevation, Slope, Drape, Plain };
 
 struct MaterialDescription {
     std::string name;
@@ -132,6 +132,7 @@ struct SceneDescription {
     std::vector<LightDescription> lights;  // empty = one default sun
     SkyDescription sky;
     RenderDescription render;
+    std::vector<std::string> warnings;  // what the file asks that is allowed but likely a mistake, one line each
 };
 
 }  // namespace terracast

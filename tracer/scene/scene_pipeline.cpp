@@ -90,6 +90,7 @@ void renderSceneFile(const SceneRunOptions& o, const RunListener& listener) {
 
     const double limit = memoryLimitBytes(o.maxMemoryBytes);
     const LoadedSceneAssets loaded = loadSceneAssets(d, limit);
+    for (const auto& w : d.warnings) listener.warn(w);
     for (const auto& w : loaded.warnings) listener.warn(w);
     for (const auto& line : placeTimedSuns(d, loaded)) listener.tell(line);
     double embreeBytes = 0.0;
@@ -140,7 +141,7 @@ void renderSceneFile(const SceneRunOptions& o, const RunListener& listener) {
     writeImage(r.output, RgbImage{film.width, film.height, std::move(film.rgb)});
     listener.tell(fmt::format(
         "rendered {} ({}x{}, {} spp{}) in {:.2f} s: {} primary, {} shadow, {} reflection, {} refraction, {} "
-        "sky-visibility rays ({} reached the sky), {:.2f} Mrays/s, peak memory {}",
+        "sky-visibility rays ({} camera, reflection and refraction rays met no object), {:.2f} Mrays/s, peak memory {}",
         r.output, r.width, r.height,
         s.adaptive ? fmt::format("{:.1f}", double(stats.samples) / (double(r.width) * r.height))
                    : std::to_string(std::max(1, s.samples)),

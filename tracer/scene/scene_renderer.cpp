@@ -255,6 +255,7 @@ private:
             if (drape) return drape->sample(hit.uv.x, hit.uv.y);
             break;
         }
+        case TerrainColouring::Plain: return m.colour;
         case TerrainColouring::Elevation: break;
         }
         return elevationAlbedo(hit.point.z - hf->offset().z, hf->grid().minHeightM(), hf->grid().maxHeightM());
