@@ -129,6 +129,9 @@ public:
         : level_(levelM), x0_(x0), y0_(y0), x1_(x1), y1_(y1) {}
     bool intersect(const Ray& ray, Interval interval, SurfaceHit& hit) const override;
     Bounds3 bounds() const override;
+    double level() const { return level_; }
+    // Whether (x, y) lies over the water's rectangle.
+    bool covers(double x, double y) const { return x >= x0_ && x <= x1_ && y >= y0_ && y <= y1_; }
 
 private:
     double level_, x0_, y0_, x1_, y1_;

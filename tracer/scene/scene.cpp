@@ -120,6 +120,7 @@ Scene::Scene(const SceneDescription& d, const SceneAssets& assets)
         } else {
             unbounded_.push_back(int32_t(k));
         }
+        if (o.kind == ObjectKind::Water) waters_.push_back(int32_t(k));
         objects_.push_back(std::move(obj));
     }
     // A hierarchy pays off only with several bounded objects; one or two are tested directly.
@@ -173,6 +174,19 @@ bool Scene::intersect(const Ray& ray, Interval interval, SurfaceHit& hit) const 
         }
     }
     for (int32_t k : unbounded_) interval.hi = test(k, found ? hit.t : interval.hi);
+    return found;
+}
+
+const SceneObject* Scene::waterAbove(const glm::dvec3& p) const {
+    const SceneObject* found = nullptr;
+    double lowest = kInfinity;
+    for (const int32_t k : waters_) {
+        const auto& water = static_cast<const WaterPrimitive&>(*objects_[size_t(k)].primitive);
+        if (water.level() > p.z && water.level() < lowest && water.covers(p.x, p.y)) {
+            found = &objects_[size_t(k)];
+            lowest = water.level();
+        }
+    }
     return found;
 }
 

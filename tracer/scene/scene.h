@@ -51,6 +51,8 @@ public:
     const std::vector<SceneLight>& lights() const { return lights_; }
     const SkyDescription& sky() const { return sky_; }
     bool hasDielectric() const { return hasDielectric_; }
+    // The water object whose surface lies above `p` (the lowest such surface over p's x and y), or none.
+    const SceneObject* waterAbove(const glm::dvec3& p) const;
     // The first height field, if any (for framing, water and terrain colouring).
     const HeightFieldPrimitive* terrain() const { return terrain_; }
     // The extent of every bounded object (for automatic framing).
@@ -72,6 +74,7 @@ private:
     std::vector<Bounds3> objectBounds_;
     Bvh bvh_{std::vector<Bounds3>{}};
     Bounds3 bounds_;
+    std::vector<int32_t> waters_;     // the water objects
     bool hasDielectric_ = false;
     const HeightFieldPrimitive* terrain_ = nullptr;
 };

@@ -143,15 +143,25 @@ private:
             const glm::vec3 albedo = surfaceColour(obj, m, hit);
             if (m.kd > 0.0f) radiance += albedo * m.kd * skyLight(hit, n, depth, weight, ray.time);
             for (size_t li = 0; li < scene_.lights().size(); ++li) {
-                LightSample ls = sampleLight(scene_.lights()[li], hit.point, samples_.light(depth, int(li)));
-                if (scene_.lights()[li].kind == LightKind::Sun) ls.irradiance = sky_.sunlight(ls.irradiance, ls.dir, hit.point.z);
-                const double cosL = glm::dot(n, ls.dir);
+                const SceneLight& light = scene_.lights()[li];
+                LightSample ls = sampleLight(light, hit.point, samples_.light(depth, int(li)));
+                if (light.kind == LightKind::Sun) ls.irradiance = sky_.sunlight(ls.irradiance, ls.dir, hit.point.z);
+                // Under water the sun's light arrives along its direction refracted by the surface.
+                const SceneObject* water = light.kind == LightKind::Sun ? scene_.waterAbove(hit.point) : nullptr;
+                glm::dvec3 toLight = ls.dir;
+                if (water) {
+                    const auto bent = underwaterSunDirection(ls.dir, waterIndex(*water));
+                    if (!bent) continue;  // a sun below the horizon does not light the water
+                    toLight = *bent;
+                }
+                const double cosL = glm::dot(n, toLight);
                 if (cosL <= 0.0) continue;  // the surface faces away: no shadow ray
-                const glm::vec3 t = shadowTransmittance(hit, ls.dir, ls.distance, sigma, depth, weight, ray.time);
+                const glm::vec3 t = water ? sunThroughWater(hit, ls.dir, toLight, *water, depth, weight, ray.time)
+                                          : shadowTransmittance(hit, ls.dir, ls.distance, sigma, depth, weight, ray.time);
                 if (t == glm::vec3(0.0f)) continue;
                 glm::vec3 local = albedo * m.kd * float(cosL);
                 if (m.ks > 0.0f) {
-                    const double cosR = glm::dot(reflect(-ls.dir, n), -ray.dir);
+                    const double cosR = glm::dot(reflect(-toLight, n), -ray.dir);
                     if (cosR > 0.0) local += glm::vec3(m.ks * float(std::pow(cosR, double(m.exponent))));
                 }
                 radiance += t * ls.irradiance * local;
@@ -243,6 +253,59 @@ private:
         }
         endRecord(record, "light", distance, t);
         return t;
+    }
+
+    // The index of refraction of a water object's material (the green channel's, should it be dispersive: the
+    // sun's light then follows one direction under water).
+    float waterIndex(const SceneObject& water) const { return scene_.materials()[size_t(water.material)].ior.g; }
+
+    // The direction towards a sun in direction `toSun` (in the air) as seen from under a flat water surface of
+    // index `eta`: light from it crosses the surface and bends towards the vertical by Snell's law,
+    // sin(under) = sin(above) / eta, in the same vertical plane. None for a sun at or below the horizon.
+    static std::optional<glm::dvec3> underwaterSunDirection(const glm::dvec3& toSun, double eta) {
+        if (toSun.z <= 0.0) return std::nullopt;
+        const double sinAbove = std::sqrt(std::max(0.0, 1.0 - toSun.z * toSun.z));
+        if (sinAbove == 0.0) return glm::dvec3(0.0, 0.0, 1.0);
+        const double sinUnder = sinAbove / eta;
+        const double scale = sinUnder / sinAbove;
+        return glm::normalize(glm::dvec3(toSun.x * scale, toSun.y * scale, std::sqrt(1.0 - sinUnder * sinUnder)));
+    }
+
+    // The fraction of a sun's light (its irradiance on a surface facing it, in the air) that reaches `hit` under
+    // `water`'s surface, per unit of the cosine between the surface and the underwater direction `under`: with a
+    // flat interface the refracted direction is one constant, so one ray follows the light's exact path, from
+    // `hit` up along `under` to the surface, then on along `toSun` through the air. Along it: the terrain and
+    // other opaque objects under water, Beer-Lambert over the path in the water, the Fresnel transmittance of
+    // the surface at the sun's incidence (no total internal reflection from the air's side), the air's own
+    // shadow ray, and the beam's change of cross-section: a beam of unit cross-section in the air lights
+    // cos(above) of the surface, spread under water over a beam of cross-section cos(above) / cos(under).
+    glm::vec3 sunThroughWater(const SurfaceHit& hit, const glm::dvec3& toSun, const glm::dvec3& under,
+                              const SceneObject& water, int depth, const glm::vec3& weight, double time) {
+        const auto& surface = static_cast<const WaterPrimitive&>(*water.primitive);
+        const MaterialDescription& m = scene_.materials()[size_t(water.material)];
+        counters_.count(RayKind::Shadow);
+        const Ray up = spawn(hit, under, time);
+        const double inWater = (surface.level() - hit.point.z) / under.z;
+        const size_t record = beginRecord(up, RayKind::Shadow, depth + 1, weight);
+        if (scene_.occludedByOpaque(up, {0.0, inWater})) {
+            endRecord(record, "blocked", 0.0, glm::vec3(0.0f));
+            return glm::vec3(0.0f);
+        }
+        glm::vec3 t = beerLambert(m.absorptionPerM, inWater) * float(toSun.z / under.z);
+        for (int c = 0; c < 3; ++c)
+            t[c] *= float(1.0 - (m.fresnel == FresnelModel::Exact ? fresnelDielectric(toSun.z, 1.0, m.ior[c])
+                                                                  : fresnelSchlick(toSun.z, 1.0, m.ior[c])));
+        endRecord(record, "water surface", inWater, t);
+        // Where the light crosses the surface, as the surface itself finds it (with its rounding bound); beyond
+        // the water's rectangle, the same point on its plane.
+        SurfaceHit exit;
+        if (!surface.intersect(up, {0.0, kInfinity}, exit)) {
+            exit.point = hit.point + under * inWater;
+            exit.point.z = surface.level();
+            exit.normal = {0.0, 0.0, 1.0};
+            exit.errorM = std::max(hit.errorM, 1e-9 * std::abs(exit.point.z));
+        }
+        return t * shadowTransmittance(exit, toSun, kInfinity, glm::vec3(0.0f), depth, weight, time);
     }
 
     glm::vec3 surfaceColour(const SceneObject& obj, const MaterialDescription& m, const SurfaceHit& hit) const {

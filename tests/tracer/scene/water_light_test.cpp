@@ -1,0 +1,93 @@
+// Sunlight on a lake bed against its analytic value: light from a sun at any elevation above the horizon crosses
+// a flat water surface along Snell's refracted direction, keeps the surface's Fresnel transmittance and loses
+// Beer-Lambert's share over its slanted path in the water, and lights a horizontal bed with the irradiance of
+// the beam that entered the surface above it.
+#include "tracer/scene/scene_renderer.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <memory>
+#include <vector>
+
+using namespace terracast;
+
+namespace {
+
+// The Fresnel reflectance of unpolarised light entering index n2 from n1 at incidence cosine cosI (Born and
+// Wolf, "Principles of Optics", section 1.5), written out here as the test's own reference.
+double fresnelReference(double cosI, double n1, double n2) {
+    const double sinT = n1 / n2 * std::sqrt(1.0 - cosI * cosI);
+    const double cosT = std::sqrt(1.0 - sinT * sinT);
+    const double rs = (n1 * cosI - n2 * cosT) / (n1 * cosI + n2 * cosT);
+    const double rp = (n2 * cosI - n1 * cosT) / (n2 * cosI + n1 * cosT);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+}  // namespace
+
+TEST_CASE("A lake bed receives the sun through the water at any elevation, as Fresnel, Snell and Beer-Lambert say",
+          "[scene][water]") {
+    const double depth = 2.0, n = 1.333;
+    const glm::dvec3 sigma{0.3, 0.1, 0.05};
+    for (const double elevationDeg : {10.0, 30.0, 45.0, 70.0}) {
+        INFO("sun elevation " << elevationDeg << " degrees");
+        SceneDescription d;
+        MaterialDescription bed;
+        bed.name = "bed";
+        bed.colour = glm::vec3(1.0f);
+        bed.terrain = TerrainColouring::Plain;
+        d.materials.push_back(bed);
+        MaterialDescription water;
+        water.name = "water";
+        water.kd = 0.0f;
+        water.dielectric = true;
+        water.ior = glm::vec3(float(n));
+        water.absorptionPerM = glm::vec3(sigma);
+        water.fresnel = FresnelModel::Exact;
+        d.materials.push_back(water);
+        // A flat bed 41 m square at z = 0, under water 2 m deep.
+        const int size = 41;
+        SceneAssets assets;
+        assets.grids.push_back(
+            std::make_shared<const HeightGrid>(size, size, 1.0, 1.0, std::vector<float>(size_t(size) * size, 0.0f)));
+        ObjectDescription field;
+        field.kind = ObjectKind::HeightField;
+        field.offsetM = {-20.0, -20.0, 0.0};
+        field.material = "bed";
+        d.objects.push_back(field);
+        ObjectDescription lake;
+        lake.kind = ObjectKind::Water;
+        lake.levelM = depth;
+        lake.material = "water";
+        d.objects.push_back(lake);
+        LightDescription sun;
+        sun.azimuthDeg = 200.0;
+        sun.elevationDeg = elevationDeg;
+        d.lights.push_back(sun);
+        d.sky.kind = SkyKind::None;  // the sun alone, not reddened by air
+        // Looking straight down at the bed's centre.
+        d.camera.eye = glm::dvec3(0.0, 0.0, 10.0);
+        d.camera.lookAt = glm::dvec3(0.0, 0.0, 0.0);
+        d.camera.up = glm::dvec3(0.0, 1.0, 0.0);
+        d.camera.fovDeg = 1.0;
+        const Scene scene(d, assets);
+        SceneRenderSettings s;
+        s.width = s.height = 1;
+        const glm::vec3 pixel = tracePixel(scene, makeSceneCamera(scene, d.camera, 1.0), s, 0, 0, nullptr);
+
+        // The bed's irradiance: the sun's unit irradiance on the horizontal surface (sin e), the share that
+        // crosses the surface, and what is left after the slanted path of depth / cos(under) in the water.
+        const double e = elevationDeg * M_PI / 180.0;
+        const double cosAbove = std::sin(e);
+        const double sinUnder = std::cos(e) / n, cosUnder = std::sqrt(1.0 - sinUnder * sinUnder);
+        const double camera = 1.0 - fresnelReference(1.0, 1.0, n);  // the camera's ray enters at normal incidence
+        for (int c = 0; c < 3; ++c) {
+            const double bedIrradiance =
+                cosAbove * (1.0 - fresnelReference(cosAbove, 1.0, n)) * std::exp(-sigma[c] * depth / cosUnder);
+            // The white bed sends it back; the camera's ray crosses the surface and the 2 m of water above it.
+            const double expected = bedIrradiance * camera * std::exp(-sigma[c] * depth);
+            CHECK(pixel[c] == Approx(expected).epsilon(1e-4));
+        }
+    }
+}
