@@ -111,8 +111,10 @@ public:
            std::vector<RayRecord>* tree, const SampleSource& samples, bool aerial)
         : scene_(scene), sky_(sky), s_(settings), counters_(counters), tree_(tree), samples_(samples), aerial_(aerial) {}
 
-    // Radiance arriving along `ray` (unit direction), travelling through a medium absorbing `sigma` per metre.
-    glm::vec3 trace(const Ray& ray, RayKind kind, int depth, const glm::vec3& weight, const glm::vec3& sigma) {
+    // Radiance arriving along `ray` (unit direction), travelling through a medium absorbing `sigma` per metre,
+    // which is the air when `inAir` (outside every dielectric).
+    glm::vec3 trace(const Ray& ray, RayKind kind, int depth, const glm::vec3& weight, const glm::vec3& sigma,
+                    bool inAir) {
         counters_.count(kind);
         const size_t record = beginRecord(ray, kind, depth, weight);
         SurfaceHit hit;
@@ -123,16 +125,19 @@ public:
             endRecord(record, "sky", kInfinity, weight * radiance);
             return radiance;
         }
-        radiance = shade(ray, hit, depth, weight, sigma);
+        radiance = shade(ray, hit, depth, weight, sigma, inAir);
         if (sigma != glm::vec3(0.0f)) radiance *= beerLambert(sigma, hit.t);
-        // Aerial perspective on the camera's own segment (already part of the sky's radiance for rays that miss).
-        if (kind == RayKind::Primary && aerial_) radiance = sky_.throughAir(radiance, ray.dir, hit.t);
+        // Aerial perspective on every segment through the air: the camera's own, and those of reflections and
+        // of rays leaving glass or water (already part of the sky's radiance for rays that miss). The tables
+        // hold the air seen from the camera's height, which segments that start elsewhere take as theirs.
+        if (inAir && aerial_) radiance = sky_.throughAir(radiance, ray.dir, hit.t);
         endRecord(record, scene_.objects()[size_t(hit.object)].name, hit.t, weight * radiance);
         return radiance;
     }
 
 private:
-    glm::vec3 shade(const Ray& ray, const SurfaceHit& hit, int depth, const glm::vec3& weight, const glm::vec3& sigma) {
+    glm::vec3 shade(const Ray& ray, const SurfaceHit& hit, int depth, const glm::vec3& weight, const glm::vec3& sigma,
+                    bool inAir) {
         const SceneObject& obj = scene_.objects()[size_t(hit.object)];
         const MaterialDescription& m = scene_.materials()[size_t(obj.material)];
         const bool entering = glm::dot(ray.dir, hit.normal) < 0.0;
@@ -173,17 +178,18 @@ private:
             const glm::vec3 w = weight * m.mirror;
             if (maxComponent(w) >= s_.minWeight) {
                 const glm::dvec3 r = reflectedDirection(ray.dir, n, m.gloss, depth);
-                radiance += m.mirror * trace(spawn(hit, r, ray.time), RayKind::Reflection, depth + 1, w, sigma);
+                radiance += m.mirror * trace(spawn(hit, r, ray.time), RayKind::Reflection, depth + 1, w, sigma, inAir);
             }
         }
-        if (m.dielectric) radiance += refractAndReflect(ray, hit, m, entering, n, depth, weight, sigma);
+        if (m.dielectric) radiance += refractAndReflect(ray, hit, m, entering, n, depth, weight, sigma, inAir);
         return radiance;
     }
 
     // The dielectric part: Fresnel-weighted reflection and refraction; one refraction ray per colour channel when
     // the indices differ (dispersion), each carrying its own channel.
     glm::vec3 refractAndReflect(const Ray& ray, const SurfaceHit& hit, const MaterialDescription& m, bool entering,
-                                const glm::dvec3& n, int depth, const glm::vec3& weight, const glm::vec3& sigma) {
+                                const glm::dvec3& n, int depth, const glm::vec3& weight, const glm::vec3& sigma,
+                                bool inAir) {
         const double cosI = -glm::dot(ray.dir, n);
         const glm::vec3 inside = m.absorptionPerM;
         const glm::vec3 sigmaAfter = entering ? inside : glm::vec3(0.0f);
@@ -204,12 +210,12 @@ private:
             if (f >= 1.0 || maxComponent(w) < s_.minWeight) continue;
             if (const auto t = refract(ray.dir, n, etaFrom, etaTo))
                 result += mask * float(1.0 - f) *
-                          trace(spawn(hit, *t, ray.time), RayKind::Refraction, depth + 1, w, sigmaAfter);
+                          trace(spawn(hit, *t, ray.time), RayKind::Refraction, depth + 1, w, sigmaAfter, !entering);
         }
         const glm::vec3 w = weight * reflectance;
         if (maxComponent(w) >= s_.minWeight) {
             const glm::dvec3 r = glm::normalize(reflect(ray.dir, n));
-            result += reflectance * trace(spawn(hit, r, ray.time), RayKind::Reflection, depth + 1, w, sigma);
+            result += reflectance * trace(spawn(hit, r, ray.time), RayKind::Reflection, depth + 1, w, sigma, inAir);
         }
         return result;
     }
@@ -419,7 +425,7 @@ CameraSample cameraSample(const Scene& scene, const Sky& sky, const SceneCamera&
     const bool aerial = sky.aerialPerspective() && camera.kind() != CameraKind::Orthographic;
     Tracer tracer(scene, sky, s, counters, tree, SampleSource(sampler, x, y, k, int(scene.lights().size()), s.seed),
                   aerial);
-    out.radiance = tracer.trace(*ray, RayKind::Primary, 0, glm::vec3(1.0f), glm::vec3(0.0f));
+    out.radiance = tracer.trace(*ray, RayKind::Primary, 0, glm::vec3(1.0f), glm::vec3(0.0f), true);
     return out;
 }
 
