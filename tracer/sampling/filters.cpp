@@ -69,6 +69,50 @@ double PixelFilter::evaluate1D(double x) const {
     return 0.0;
 }
 
+double PixelFilter::cumulative1D(double x) const {
+    const double r = radius, c = std::clamp(x, -r, r);
+    switch (kind) {
+    case FilterKind::Box: return (c + r) / (2.0 * r);
+    case FilterKind::Tent: {
+        const double s = (r - std::abs(c)) / r;  // the tail beyond |c| holds s^2 / 2
+        return c <= 0.0 ? 0.5 * s * s : 1.0 - 0.5 * s * s;
+    }
+    case FilterKind::Gaussian: {
+        const double k = std::sqrt(alpha), half = 0.5 * std::sqrt(glm::pi<double>() / alpha);
+        const double area = half * (std::erf(k * c) + std::erf(k * r)) - std::exp(-alpha * r * r) * (c + r);
+        return std::clamp(area / gaussianIntegral(r, alpha), 0.0, 1.0);
+    }
+    }
+    return 0.0;
+}
+
+double PixelFilter::sample1D(double u) const {
+    const double r = radius;
+    switch (kind) {
+    case FilterKind::Box: return (2.0 * u - 1.0) * r;
+    case FilterKind::Tent:
+        // Inverting the two quadratic halves of the cumulative distribution.
+        return u < 0.5 ? r * (std::sqrt(2.0 * u) - 1.0) : r * (1.0 - std::sqrt(2.0 - 2.0 * u));
+    case FilterKind::Gaussian: {
+        // Newton's method on the cumulative distribution, kept inside a shrinking bracket (a bisection step
+        // whenever Newton's would leave it); the distribution is smooth and increasing inside the support.
+        double lo = -r, hi = r, x = 0.0;
+        for (int k = 0; k < 64; ++k) {
+            const double g = cumulative1D(x) - u;
+            if (g < 0.0) lo = x;
+            else hi = x;
+            const double f = evaluate1D(x);
+            double next = f > 0.0 ? x - g / f : 0.5 * (lo + hi);
+            if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+            if (std::abs(next - x) < 1e-12) return next;
+            x = next;
+        }
+        return x;
+    }
+    }
+    return 0.0;
+}
+
 AccumulationFilm::AccumulationFilm(int width, int height, PixelFilter filter)
     : width_(width), height_(height), filter_(filter), pixels_(size_t(width) * size_t(height)) {}
 

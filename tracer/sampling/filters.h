@@ -1,10 +1,13 @@
 // Pixel reconstruction filters and the per-pixel weighted average that uses them.
 //
-// How samples reach pixels: each pixel keeps its own samples. A pixel's N sample positions are drawn over
-// the filter's support, the square [-radius, radius]^2 around the pixel's centre (radius up to one pixel,
-// so neighbouring pixels' supports overlap but no sample is shared), and the pixel's value is the average
-// of its samples weighted by the filter at their offsets: sum w_i L_i / sum w_i. Nothing splats into
-// neighbouring pixels, so pixels can be rendered in any order on any thread without locks.
+// How samples reach pixels: each pixel keeps its own samples. A pixel's N sample positions lie in the
+// filter's support, the square [-radius, radius]^2 around the pixel's centre (radius up to one pixel, so
+// neighbouring pixels' supports overlap but no sample is shared), drawn with a density proportional to the
+// filter (importance sampling of the filter, Cook 1986, "Stochastic sampling in computer graphics"; pbrt-v4
+// does the same with its FilterSampler): each sample then carries the same weight, and the pixel's value is
+// their plain mean, an estimate of the filtered image with the noise of a plain average rather than that of
+// weights that vary from sample to sample. Nothing splats into neighbouring pixels, so pixels can be
+// rendered in any order on any thread without locks.
 #pragma once
 
 #include "tracer/sampling/film.h"
@@ -55,8 +58,14 @@ struct PixelFilter {
     double evaluate(glm::dvec2 offset) const { return evaluate1D(offset.x) * evaluate1D(offset.y); }
     double evaluate1D(double x) const;
 
-    // The offset (pixels) from the pixel's centre of a sample at u in [0, 1)^2: uniform over the support.
-    glm::dvec2 offsetOf(glm::dvec2 u) const { return (2.0 * u - 1.0) * radius; }
+    // The offset (pixels) from the pixel's centre of a sample at u in [0, 1)^2, drawn with density equal to
+    // the filter: each axis by the inverse of the 1D filter's cumulative distribution (exact for box and tent,
+    // solved to 1e-12 of a pixel for the Gaussian). Monotonic in each coordinate of u, so stratified points
+    // stay stratified. A sample so drawn has weight 1: its value enters the pixel's plain mean.
+    glm::dvec2 offsetOf(glm::dvec2 u) const { return {sample1D(u.x), sample1D(u.y)}; }
+    double sample1D(double u) const;
+    // The filter's cumulative distribution along one axis: the integral of evaluate1D from -radius to x.
+    double cumulative1D(double x) const;
 };
 
 // The weighted samples of one pixel.

@@ -400,14 +400,9 @@ private:
     bool aerial_;
 };
 
-// One camera sample: its film position, lens point and time from the sampler, traced and returned with its
-// filter weight.
-struct CameraSample {
-    glm::vec3 radiance{0.0f};
-    double weight = 0.0;
-};
-
-CameraSample cameraSample(const Scene& scene, const Sky& sky, const SceneCamera& camera, const SceneRenderSettings& s,
+// One camera sample: its film position (drawn in proportion to the pixel filter, so that every sample weighs
+// the same: PixelFilter::offsetOf), lens point and time from the sampler, traced.
+glm::vec3 cameraSample(const Scene& scene, const Sky& sky, const SceneCamera& camera, const SceneRenderSettings& s,
                           const PixelSampler* sampler, int x, int y, int k, Counters& counters,
                           std::vector<RayRecord>* tree) {
     glm::dvec2 offset{0.0}, lens{0.5};
@@ -417,16 +412,13 @@ CameraSample cameraSample(const Scene& scene, const Sky& sky, const SceneCamera&
         lens = sampler->sample(x, y, k, 1);
         time = sampler->sample1D(x, y, k, 2);
     }
-    CameraSample out;
-    out.weight = sampler ? s.filter.evaluate(offset) : 1.0;
     const auto ray = camera.generate((x + 0.5 + offset.x) / s.width, (y + 0.5 + offset.y) / s.height, lens, time);
-    if (!ray) return out;  // outside a fisheye's circle: black
+    if (!ray) return glm::vec3(0.0f);  // outside a fisheye's circle: black
     // Aerial perspective needs one centre of projection: the orthographic camera's rays have none.
     const bool aerial = sky.aerialPerspective() && camera.kind() != CameraKind::Orthographic;
     Tracer tracer(scene, sky, s, counters, tree, SampleSource(sampler, x, y, k, int(scene.lights().size()), s.seed),
                   aerial);
-    out.radiance = tracer.trace(*ray, RayKind::Primary, 0, glm::vec3(1.0f), glm::vec3(0.0f), true);
-    return out;
+    return tracer.trace(*ray, RayKind::Primary, 0, glm::vec3(1.0f), glm::vec3(0.0f), true);
 }
 
 glm::vec3 pixelValue(const Scene& scene, const Sky& sky, const SceneCamera& camera, const SceneRenderSettings& s,
@@ -437,11 +429,11 @@ glm::vec3 pixelValue(const Scene& scene, const Sky& sky, const SceneCamera& came
     for (int k = 0; k < n; ++k) {
         // A pixel of 65536 samples takes seconds: an interrupt is honoured within it (the film is dropped).
         if ((k & 255) == 255 && cancelFlag().load(std::memory_order_relaxed)) break;
-        const CameraSample c = cameraSample(scene, sky, camera, s, sampler, x, y, k, counters, tree);
-        acc.add(c.radiance, c.weight);
+        const glm::vec3 radiance = cameraSample(scene, sky, camera, s, sampler, x, y, k, counters, tree);
+        acc.add(radiance, 1.0);
         ++counters.samples;
         if (!s.adaptive) continue;
-        stats.add(luminance(c.radiance));
+        stats.add(luminance(radiance));
         if (s.rule.done(stats)) break;
     }
     return acc.value() * s.exposure;

@@ -1,6 +1,8 @@
-// Pixel filters: unit integral, symmetry, support; the weighted per-pixel average built on them.
+// Pixel filters: unit integral, symmetry, support; samples drawn in proportion to each filter (their
+// distribution, and the noise and bias of the pixel values they give); the weighted per-pixel average.
 #include "tracer/sampling/filters.h"
 #include "tracer/sampling/rng.h"
+#include "tracer/sampling/samplers.h"
 
 #include <catch2/catch.hpp>
 
@@ -132,5 +134,70 @@ TEST_CASE("A pixel's value is its samples' filter-weighted mean", "[tracer][samp
                 f.add(0, 0, sign * o, glm::vec3(float(2.0 + sign * (o.x - 3.0 * o.y))));
         }
         CHECK(f.at(0, 0).value().r == Approx(2.0f).epsilon(1e-6));
+    }
+}
+
+TEST_CASE("Offsets drawn from a filter follow its cumulative distribution, stratum by stratum", "[tracer][sampling]") {
+    for (const PixelFilter& f : someFilters()) {
+        INFO(filterKindName(f.kind) << " radius " << f.radius << " alpha " << f.alpha);
+        // The cumulative distribution integrates the filter (midpoint rule) and inverts sample1D.
+        const int m = 4000;
+        double sum = 0.0;
+        for (int i = 0; i < m; ++i) {
+            const double x0 = -f.radius + 2.0 * f.radius * i / m, x1 = -f.radius + 2.0 * f.radius * (i + 1) / m;
+            sum += f.evaluate1D(0.5 * (x0 + x1)) * (x1 - x0);
+            if (i % 400 == 399) CHECK(f.cumulative1D(x1) == Approx(sum).margin(1e-6));
+        }
+        for (double u : {0.0, 0.001, 0.1, 0.25, 0.5, 0.6, 0.9, 0.999}) {
+            const double x = f.sample1D(u);
+            CHECK(std::abs(x) <= f.radius);
+            CHECK(f.cumulative1D(x) == Approx(u).margin(1e-9));
+        }
+        CHECK(f.sample1D(0.5) == Approx(0.0).margin(1e-12));
+        // Monotonic: stratified points stay in order.
+        double last = -f.radius;
+        for (int i = 0; i < 200; ++i) {
+            const double x = f.sample1D((i + 0.5) / 200.0);
+            CHECK(x > last);
+            last = x;
+        }
+    }
+}
+
+TEST_CASE("Every filter's pixel values are unbiased and no noisier than the box's at equal samples",
+          "[tracer][sampling]") {
+    // A sharp edge at an angle through the pixel's centre: the values 1 beyond it, 0 before (a half under every
+    // filter, so that each filter's samples see the same spread of values).
+    const auto image = [](glm::dvec2 o) { return 0.9 * o.x + 0.436 * o.y > 0.0 ? 1.0 : 0.0; };
+    const int pixels = 3000, spp = 16;
+    double boxNoise = 0.0;
+    for (FilterKind kind : {FilterKind::Box, FilterKind::Tent, FilterKind::Gaussian}) {
+        const PixelFilter f = PixelFilter::defaults(kind);
+        INFO(filterKindName(kind));
+        // The exact filtered value by the midpoint rule over the support.
+        const int m = 600;
+        const double h = 2.0 * f.radius / m;
+        double exact = 0.0;
+        for (int j = 0; j < m; ++j)
+            for (int i = 0; i < m; ++i) {
+                const glm::dvec2 o{-f.radius + (i + 0.5) * h, -f.radius + (j + 0.5) * h};
+                exact += f.evaluate(o) * image(o) * h * h;
+            }
+        // Each pixel's value: the plain mean of its stratified samples drawn from the filter.
+        const PixelSampler sampler(SamplePattern::Stratified, spp, 7);
+        double sum = 0.0, squares = 0.0;
+        for (int p = 0; p < pixels; ++p) {
+            double value = 0.0;
+            for (int k = 0; k < spp; ++k) value += image(f.offsetOf(sampler.sample(p, 0, k, 0)));
+            value /= spp;
+            sum += value;
+            squares += (value - exact) * (value - exact);
+        }
+        const double mean = sum / pixels, noise = std::sqrt(squares / pixels);
+        INFO("exact " << exact << ", mean " << mean << ", RMS error " << noise);
+        CHECK(std::abs(mean - exact) < 4.0 * noise / std::sqrt(double(pixels)));
+        if (kind == FilterKind::Box) boxNoise = noise;
+        else CHECK(noise <= 1.05 * boxNoise);
+        CHECK(noise > 0.0);
     }
 }

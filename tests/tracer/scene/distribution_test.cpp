@@ -511,6 +511,56 @@ TEST_CASE("Tent and Gaussian filters spread a straight edge over the pixels thei
         }
 }
 
+TEST_CASE("Across an edge, tent and Gaussian pixels are no noisier than the box's at equal samples",
+          "[distribution]") {
+    // A black half-plane (x < 10.5 m) under a white sky, seen from above with 1 m pixels: the edge runs through
+    // the centres of column 10, so under every symmetric filter that column's pixels are 0.5. Each of its 3000
+    // pixels is an independent estimate from 16 random samples; their spread is the filter's noise. A filter
+    // whose samples are drawn in proportion to it averages values of 0 and 1 as the box does; weighting uniform
+    // samples by the filter instead gives about twice the box's noise.
+    SceneDescription d;
+    d.materials.push_back(matte("black", 0.0f));
+    ObjectDescription half;
+    half.kind = ObjectKind::Box;
+    half.boxMin = {-100.0, -5000.0, -1.0};
+    half.boxMax = {10.5, 5000.0, 0.0};
+    half.material = "black";
+    d.objects.push_back(half);
+    d.sky.kind = SkyKind::Flat;
+    d.sky.colour = glm::vec3(1.0f);
+    const int width = 21, height = 3000;
+    d.camera = stripCamera(0.0, double(width), 10.0);
+    d.camera.orthoHeightM = double(height);
+    Scene scene(d, {});
+    const SceneCamera camera = makeSceneCamera(scene, d.camera, double(width) / height);
+    double boxNoise = 0.0;
+    for (const FilterKind kind : {FilterKind::Box, FilterKind::Tent, FilterKind::Gaussian}) {
+        SceneRenderSettings s;
+        s.width = width;
+        s.height = height;
+        s.samples = 16;
+        s.pattern = SamplePattern::Random;
+        s.threads = 2;
+        s.filter = PixelFilter::defaults(kind);
+        const Film film = renderScene(scene, camera, s);
+        double sum = 0.0, squares = 0.0;
+        for (int y = 0; y < height; ++y) {
+            const double v = film.get(10, y).r;
+            sum += v;
+            squares += (v - 0.5) * (v - 0.5);
+        }
+        const double noise = std::sqrt(squares / height);
+        INFO(filterKindName(kind) << ": mean " << sum / height << ", RMS error " << noise << ", box " << boxNoise);
+        CHECK(sum / height == Approx(0.5).margin(4.0 * noise / std::sqrt(double(height))));
+        if (kind == FilterKind::Box) {
+            boxNoise = noise;
+            CHECK(noise == Approx(0.125).epsilon(0.05));  // sqrt(0.5 x 0.5 / 16)
+        } else {
+            CHECK(noise <= 1.06 * boxNoise);
+        }
+    }
+}
+
 TEST_CASE("Adaptive sampling stops flat pixels at the minimum and spends the maximum on edges", "[distribution]") {
     // A black box covers x < 10.5 of a 16 x 8 m view with 1 m pixels; the sky is white. Pixels wholly on one
     // side see one value, so their standard error is 0 as soon as the rule allows stopping; pixels of column
