@@ -239,25 +239,6 @@ bool BoxPrimitive::intersect(const Ray& ray, Interval interval, SurfaceHit& hit)
     return true;
 }
 
-bool WaterPrimitive::intersect(const Ray& ray, Interval interval, SurfaceHit& hit) const {
-    if (ray.dir.z == 0.0) return false;
-    const double t = (level_ - ray.origin.z) / ray.dir.z;
-    if (!interval.contains(t)) return false;
-    const glm::dvec3 p = ray.at(t);
-    if (p.x < x0_ || p.x > x1_ || p.y < y0_ || p.y > y1_) return false;
-    hit.t = t;
-    hit.point = {p.x, p.y, level_};
-    hit.normal = {0, 0, 1};
-    hit.uv = {(p.x - x0_) / (x1_ - x0_), (p.y - y0_) / (y1_ - y0_)};
-    hit.errorM = pointError(hit.point, std::max({std::abs(x0_), std::abs(x1_), std::abs(y0_), std::abs(y1_)}));
-    return true;
-}
-
-Bounds3 WaterPrimitive::bounds() const {
-    const double pad = pointError({x1_, y1_, level_});
-    return {{x0_, y0_, level_ - pad}, {x1_, y1_, level_ + pad}};
-}
-
 HeightFieldPrimitive::HeightFieldPrimitive(std::shared_ptr<const HeightGrid> grid, const glm::dvec3& offsetM,
                                            SurfaceMethod method, int threads)
     : grid_(std::move(grid)), offset_(offsetM), surface_(*grid_, method, threads) {}
@@ -281,6 +262,86 @@ bool HeightFieldPrimitive::occluded(const Ray& ray, Interval interval) const {
 Bounds3 HeightFieldPrimitive::bounds() const {
     return {offset_ + glm::dvec3(0.0, 0.0, grid_->minHeightM()),
             offset_ + glm::dvec3(grid_->extentXM(), grid_->extentYM(), grid_->maxHeightM())};
+}
+
+WaterPrimitive::WaterPrimitive(double levelM, const HeightFieldPrimitive& terrain) : level_(levelM) {
+    const HeightGrid& g = terrain.grid();
+    const glm::dvec3 o = terrain.offset();
+    x0_ = o.x;
+    y0_ = o.y;
+    x1_ = o.x + g.extentXM();
+    y1_ = o.y + g.extentYM();
+    stepX_ = g.cellSizeXM();
+    stepY_ = g.cellSizeYM();
+    lowest_ = levelM;
+    const auto height = [&](int64_t i, int64_t j) {
+        return g.vertexValid(i, j) ? o.z + double(g.at(i, j)) : kInfinity;
+    };
+    for (int64_t j = 0; j < g.height(); ++j) {
+        edges_[0].push_back(height(0, j));
+        edges_[1].push_back(height(g.width() - 1, j));
+    }
+    for (int64_t i = 0; i < g.width(); ++i) {
+        edges_[2].push_back(height(i, 0));
+        edges_[3].push_back(height(i, g.height() - 1));
+    }
+    for (const auto& edge : edges_)
+        for (const double z : edge) lowest_ = std::min(lowest_, z);
+}
+
+double WaterPrimitive::edgeHeight(int side, double along) const {
+    const std::vector<double>& edge = edges_[side];
+    const double s = side < 2 ? (along - y0_) / stepY_ : (along - x0_) / stepX_;
+    const double k = std::clamp(std::floor(s), 0.0, double(edge.size() - 2));
+    const double f = std::clamp(s - k, 0.0, 1.0);
+    const double a = edge[size_t(k)], b = edge[size_t(k) + 1];
+    if (!std::isfinite(a) || !std::isfinite(b)) return kInfinity;
+    return a + (b - a) * f;
+}
+
+bool WaterPrimitive::intersect(const Ray& ray, Interval interval, SurfaceHit& hit) const {
+    double best = kInfinity;
+    glm::dvec3 normal{0.0};
+    glm::dvec3 point{0.0};
+    // The surface.
+    if (ray.dir.z != 0.0) {
+        const double t = (level_ - ray.origin.z) / ray.dir.z;
+        const glm::dvec3 p = ray.at(t);
+        if (interval.contains(t) && covers(p.x, p.y)) {
+            best = t;
+            normal = {0.0, 0.0, 1.0};
+            point = {p.x, p.y, level_};
+        }
+    }
+    // The sides, between the terrain's edge and the level.
+    for (int side = 0; side < 4; ++side) {
+        const int axis = side < 2 ? 0 : 1;
+        if (ray.dir[axis] == 0.0) continue;
+        const double plane = side == 0 ? x0_ : side == 1 ? x1_ : side == 2 ? y0_ : y1_;
+        const double t = (plane - ray.origin[axis]) / ray.dir[axis];
+        if (!(t < best) || !interval.contains(t)) continue;
+        glm::dvec3 p = ray.at(t);
+        p[axis] = plane;
+        const double along = axis == 0 ? p.y : p.x;
+        const bool within = axis == 0 ? along >= y0_ && along <= y1_ : along >= x0_ && along <= x1_;
+        if (!within || p.z > level_ || p.z < edgeHeight(side, along)) continue;
+        best = t;
+        normal = glm::dvec3(0.0);
+        normal[axis] = side % 2 == 0 ? -1.0 : 1.0;
+        point = p;
+    }
+    if (!std::isfinite(best)) return false;
+    hit.t = best;
+    hit.point = point;
+    hit.normal = normal;
+    hit.uv = {(point.x - x0_) / (x1_ - x0_), (point.y - y0_) / (y1_ - y0_)};
+    hit.errorM = pointError(point, std::max({std::abs(x0_), std::abs(x1_), std::abs(y0_), std::abs(y1_)}));
+    return true;
+}
+
+Bounds3 WaterPrimitive::bounds() const {
+    const double pad = pointError({x1_, y1_, level_}, std::max(std::abs(x0_), std::abs(y0_)));
+    return {{x0_ - pad, y0_ - pad, std::min(lowest_, level_) - pad}, {x1_ + pad, y1_ + pad, level_ + pad}};
 }
 
 }  // namespace terracast

@@ -121,22 +121,6 @@ private:
     Bounds3 box_;
 };
 
-// A horizontal water surface at `levelM` over the rectangle [x0, x1] x [y0, y1] (a height field's footprint).
-// Its outer side is up: rays from below are inside the water.
-class WaterPrimitive final : public Primitive {
-public:
-    WaterPrimitive(double levelM, double x0, double y0, double x1, double y1)
-        : level_(levelM), x0_(x0), y0_(y0), x1_(x1), y1_(y1) {}
-    bool intersect(const Ray& ray, Interval interval, SurfaceHit& hit) const override;
-    Bounds3 bounds() const override;
-    double level() const { return level_; }
-    // Whether (x, y) lies over the water's rectangle.
-    bool covers(double x, double y) const { return x >= x0_ && x <= x1_ && y >= y0_ && y <= y1_; }
-
-private:
-    double level_, x0_, y0_, x1_, y1_;
-};
-
 // A height grid placed in the scene with its vertex (0, 0) at `offsetM`, traced directly or through Embree.
 // The terrain is solid: occlusion queries treat everything below the surface as blocking.
 class HeightFieldPrimitive final : public Primitive {
@@ -154,6 +138,31 @@ private:
     std::shared_ptr<const HeightGrid> grid_;
     glm::dvec3 offset_;
     TerrainSurface surface_;
+};
+
+// A body of water over a height field's footprint: a horizontal surface at `levelM` over the footprint's
+// rectangle, closed at the rectangle's edges by vertical sides wherever the terrain's edge lies below the
+// level (from the terrain up to the level), so that no ray reaches terrain under the water without crossing
+// the water's boundary; where the edge rises above the level, or has no data, there is no side. Normals point
+// out of the water: rays from below the surface, or from inside the sides, are in it.
+class WaterPrimitive final : public Primitive {
+public:
+    WaterPrimitive(double levelM, const HeightFieldPrimitive& terrain);
+    bool intersect(const Ray& ray, Interval interval, SurfaceHit& hit) const override;
+    Bounds3 bounds() const override;
+    double level() const { return level_; }
+    // Whether (x, y) lies over the water's rectangle.
+    bool covers(double x, double y) const { return x >= x0_ && x <= x1_ && y >= y0_ && y <= y1_; }
+
+private:
+    // The terrain's height along side `side` (0: x = x0, 1: x = x1, 2: y = y0, 3: y = y1) at position `along`
+    // (y for sides 0 and 1, x for 2 and 3): linear between the edge's vertices, +infinity beside a missing one.
+    double edgeHeight(int side, double along) const;
+
+    double level_, x0_, y0_, x1_, y1_;
+    double lowest_;                     // the lowest point of any side
+    double stepX_, stepY_;              // the terrain's cell sizes
+    std::vector<double> edges_[4];      // the terrain's heights along each side, scene metres
 };
 
 }  // namespace terracast

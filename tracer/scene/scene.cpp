@@ -26,8 +26,7 @@ std::unique_ptr<Primitive> makePrimitive(const ObjectDescription& o, const Scene
     case ObjectKind::Box: return std::make_unique<BoxPrimitive>(o.boxMin, o.boxMax);
     case ObjectKind::Water: {
         if (!terrain) throw std::invalid_argument("scene: water needs a height field");
-        const Bounds3 b = terrain->bounds();
-        return std::make_unique<WaterPrimitive>(o.levelM, b.lo.x, b.lo.y, b.hi.x, b.hi.y);
+        return std::make_unique<WaterPrimitive>(o.levelM, *terrain);
     }
     }
     throw std::invalid_argument("scene: unknown object kind");

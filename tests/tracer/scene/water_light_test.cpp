@@ -91,3 +91,95 @@ TEST_CASE("A lake bed receives the sun through the water at any elevation, as Fr
         }
     }
 }
+
+namespace {
+
+// A ramp 20 m long across x (heights base + 0.5 x; its southern row starts at 0 m) and 4 m wide, water at
+// `level`, seen horizontally along its middle (y = 0) from 10 m west of the footprint at height `eyeZ`: the
+// centre pixel and its ray tree.
+struct RampView {
+    glm::vec3 pixel;
+    std::vector<RayRecord> tree;
+};
+
+RampView rampView(double base, double level, double eyeZ, bool withWater) {
+    SceneDescription d;
+    MaterialDescription ground;
+    ground.name = "ground";
+    ground.colour = glm::vec3(1.0f);
+    ground.terrain = TerrainColouring::Plain;
+    d.materials.push_back(ground);
+    MaterialDescription water;
+    water.name = "water";
+    water.kd = 0.0f;
+    water.dielectric = true;
+    water.ior = glm::vec3(1.333f);
+    water.absorptionPerM = glm::vec3(1.0f);
+    d.materials.push_back(water);
+    const int w = 21, h = 5;
+    std::vector<float> heights(size_t(w) * h);
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) heights[size_t(j) * w + size_t(i)] = float((j == 0 ? 0.0 : base) + 0.5 * i);
+    SceneAssets assets;
+    assets.grids.push_back(std::make_shared<const HeightGrid>(w, h, 1.0, 1.0, heights));
+    ObjectDescription ramp;
+    ramp.kind = ObjectKind::HeightField;
+    ramp.name = "ramp";
+    ramp.offsetM = {0.0, -2.0, 0.0};
+    ramp.material = "ground";
+    d.objects.push_back(ramp);
+    if (withWater) {
+        ObjectDescription lake;
+        lake.kind = ObjectKind::Water;
+        lake.name = "lake";
+        lake.levelM = level;
+        lake.material = "water";
+        d.objects.push_back(lake);
+    }
+    LightDescription sun;
+    sun.azimuthDeg = 270.0;
+    sun.elevationDeg = 50.0;
+    d.lights.push_back(sun);
+    d.sky.kind = SkyKind::None;
+    d.camera.eye = glm::dvec3(-10.0, 0.0, eyeZ);
+    d.camera.lookAt = glm::dvec3(0.0, 0.0, eyeZ);
+    d.camera.fovDeg = 1.0;
+    const Scene scene(d, assets);
+    SceneRenderSettings s;
+    s.width = s.height = 1;
+    RampView v;
+    v.pixel = tracePixel(scene, makeSceneCamera(scene, d.camera, 1.0), s, 0, 0, &v.tree);
+    return v;
+}
+
+}  // namespace
+
+TEST_CASE("Water is closed at the terrain's edge: terrain under the level is seen through the water's side",
+          "[scene][water]") {
+    // The ramp's edge is at 0 m, the water at 3 m: a ray at 1 m enters the water through its side and meets the
+    // ramp 2 m further on (where it reaches 1 m), under water.
+    const RampView dry = rampView(0.0, 3.0, 1.0, false);
+    const RampView wet = rampView(0.0, 3.0, 1.0, true);
+    REQUIRE(dry.tree.size() >= 1);
+    CHECK(dry.tree[0].hit == "ramp");
+    CHECK(dry.tree[0].t == Approx(12.0).epsilon(1e-6));
+    REQUIRE(wet.tree.size() >= 2);
+    CHECK(wet.tree[0].hit == "lake");
+    CHECK(wet.tree[0].t == Approx(10.0).epsilon(1e-9));
+    bool refractedToRamp = false;
+    for (const RayRecord& r : wet.tree)
+        refractedToRamp = refractedToRamp || (r.kind == RayKind::Refraction && r.hit == "ramp" &&
+                                              r.t == Approx(2.0).epsilon(1e-6));
+    CHECK(refractedToRamp);
+    // Two metres of water absorbing 1 per metre, both ways for the sun's light: far darker than dry land.
+    INFO("dry " << dry.pixel.r << ", through the water " << wet.pixel.r);
+    CHECK(wet.pixel.r < 0.2f * dry.pixel.r);
+    CHECK(wet.pixel.r > 0.0f);
+
+    // Where the terrain's edge stands above the water (a ramp starting at 1 m, water at 3 m), there is no side
+    // below it: a ray at 0.5 m passes under the terrain as it would without water (the water's side does reach
+    // down to 0 m at the southern corner).
+    const RampView under = rampView(1.0, 3.0, 0.5, true);
+    REQUIRE(!under.tree.empty());
+    CHECK(under.tree[0].hit != "lake");
+}
