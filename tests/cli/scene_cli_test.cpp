@@ -63,13 +63,13 @@ glm::dvec3 triple(const std::string& text) {
 struct TreeLine {
     int depth = 0;
     std::string kind, hit, valueName;
-    glm::dvec3 origin{0.0}, dir{0.0}, weight{0.0}, value{0.0};
+    glm::dvec3 origin{0.0}, dir{0.0}, weight{0.0}, value{0.0}, share{0.0};
     double t = 0.0;  // 0 when the line gives no distance
 };
 
 std::vector<TreeLine> parseTree(const std::string& out) {
     static const std::regex line(R"(( *)(\w+) from \(([^)]*)\) dir \(([^)]*)\) -> (.+?)(?: at (\S+) m)?  )"
-                                 R"(weight \(([^)]*)\) (contribution|transmittance) \(([^)]*)\))");
+                                 R"(weight \(([^)]*)\) (returns|transmittance|adds) \(([^)]*)\)(?:.* adds \(([^)]*)\).*)?)");
     std::vector<TreeLine> tree;
     std::istringstream in(out);
     for (std::string text; std::getline(in, text);) {
@@ -85,6 +85,7 @@ std::vector<TreeLine> parseTree(const std::string& out) {
         l.weight = triple(m[7]);
         l.valueName = m[8];
         l.value = triple(m[9]);
+        l.share = m[10].matched ? triple(m[10]) : l.value;  // a sky-visibility ray's only value is its share
         tree.push_back(l);
     }
     return tree;
@@ -115,7 +116,7 @@ TEST_CASE("CLI: scene --debug-pixel prints the pixel's ray tree and writes no im
     REQUIRE(r.exitCode == 0);
     // The file's own output is not rendered: a debug run leaves nothing behind.
     CHECK(listing(dir.path()) == std::vector<std::string>{"ball.toml"});
-    CHECK(r.out.rfind("ray tree of pixel 3,2 (3 rays)\n", 0) == 0);
+    CHECK(r.out.rfind("ray tree of pixel 3,2 (3 rays; ", 0) == 0);
 
     // Pixel (3, 2): 0.4 of the half-width right of the centre, on the horizon.
     const double tanHalf = std::tan(20.0 * M_PI / 180.0);
@@ -137,8 +138,9 @@ TEST_CASE("CLI: scene --debug-pixel prints the pixel's ray tree and writes no im
     CHECK(tree[0].hit == "ball");
     CHECK(tree[0].t == Approx(t).margin(1e-3));
     checkNear(tree[0].weight, glm::dvec3(1.0), 1e-3);
-    CHECK(tree[0].valueName == "contribution");
+    CHECK(tree[0].valueName == "returns");
     checkNear(tree[0].value, glm::dvec3(shade), 1e-3);
+    checkNear(tree[0].share, glm::dvec3(shade), 1e-3);  // what the camera ray adds to the pixel
 
     CHECK(tree[1].kind == "shadow");
     CHECK(tree[1].depth == 1);
@@ -147,6 +149,7 @@ TEST_CASE("CLI: scene --debug-pixel prints the pixel's ray tree and writes no im
     CHECK(tree[1].hit == "light");
     CHECK(tree[1].valueName == "transmittance");
     checkNear(tree[1].value, glm::dvec3(1.0), 1e-3);
+    checkNear(tree[1].share, glm::dvec3(shade), 1e-3);  // all of the ball's light comes from the sun
 
     CHECK(tree[2].kind == "reflection");
     CHECK(tree[2].depth == 1);
@@ -155,6 +158,7 @@ TEST_CASE("CLI: scene --debug-pixel prints the pixel's ray tree and writes no im
     CHECK(tree[2].hit == "sky");
     checkNear(tree[2].weight, glm::dvec3(0.5), 1e-3);
     checkNear(tree[2].value, glm::dvec3(0.0), 1e-6);
+    checkNear(tree[2].share, glm::dvec3(0.0), 1e-6);
 
     const size_t value = r.out.find("pixel value (");
     REQUIRE(value != std::string::npos);

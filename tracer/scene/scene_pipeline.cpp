@@ -40,15 +40,31 @@ std::string vecText(const glm::dvec3& v) { return fmt::format("({:.3f}, {:.3f}, 
 }  // namespace
 
 std::string formatRayTree(int x, int y, const std::vector<RayRecord>& tree) {
-    std::string out = fmt::format("ray tree of pixel {},{} ({} rays)\n", x, y, tree.size());
+    const auto rgb = [](const glm::vec3& v) { return fmt::format("({:.4g}, {:.4g}, {:.4g})", v.r, v.g, v.b); };
+    std::string out = fmt::format("ray tree of pixel {},{} ({} rays; each adds its share to the light leaving its "
+                                  "parent's hit)\n",
+                                  x, y, tree.size());
     for (const RayRecord& r : tree) {
         out += fmt::format("{:{}}{} from {} dir {} -> {}", "", 2 * r.depth, rayKindName(r.kind), vecText(r.origin),
                            vecText(r.dir), r.hit);
         if (std::isfinite(r.t) && r.kind != RayKind::Shadow) out += fmt::format(" at {:.4g} m", r.t);
-        // A shadow ray's record holds the fraction of the light that gets through, not weighted radiance.
-        out += fmt::format("  weight ({:.3g}, {:.3g}, {:.3g}) {} ({:.4g}, {:.4g}, {:.4g})\n", r.weight.r, r.weight.g,
-                           r.weight.b, r.kind == RayKind::Shadow ? "transmittance" : "contribution", r.contribution.r,
-                           r.contribution.g, r.contribution.b);
+        out += fmt::format("  weight ({:.3g}, {:.3g}, {:.3g})", r.weight.r, r.weight.g, r.weight.b);
+        if (r.kind == RayKind::Shadow) {
+            // The fraction of the light that gets through, and the light it brings (zero when blocked).
+            out += fmt::format(" transmittance {} adds {}\n", rgb(r.contribution), rgb(r.share));
+            continue;
+        }
+        if (r.kind == RayKind::SkyVisibility) {
+            out += fmt::format(" adds {}\n", rgb(r.share));
+            continue;
+        }
+        // What the ray returns: the light leaving its hit (the sky's light without rays, plus its children's
+        // shares), times what crosses the water, glass or air on the way, plus the haze the air adds.
+        out += fmt::format(" returns {} = at the hit {}", rgb(r.atHit * r.passed + r.inscattered), rgb(r.atHit));
+        if (r.skyLight != glm::vec3(0.0f)) out += fmt::format(" (sky light {} + the rays below)", rgb(r.skyLight));
+        if (r.passed != glm::vec3(1.0f)) out += fmt::format(" x passed {}", rgb(r.passed));
+        if (r.inscattered != glm::vec3(0.0f)) out += fmt::format(" + haze {}", rgb(r.inscattered));
+        out += fmt::format(", adds {}{}\n", rgb(r.share), r.kind == RayKind::Primary ? " to the pixel" : "");
     }
     return out;
 }

@@ -113,8 +113,9 @@ public:
 
     // Radiance arriving along `ray` (unit direction), travelling through a medium absorbing `sigma` per metre,
     // which is the air when `inAir` (outside every dielectric).
+    // `factor` is what the caller multiplies the result by (for the debug tree's shares).
     glm::vec3 trace(const Ray& ray, RayKind kind, int depth, const glm::vec3& weight, const glm::vec3& sigma,
-                    bool inAir) {
+                    bool inAir, const glm::vec3& factor) {
         counters_.count(kind);
         const size_t record = beginRecord(ray, kind, depth, weight);
         SurfaceHit hit;
@@ -123,21 +124,30 @@ public:
             ++counters_.sky;
             radiance = sky_.radiance(ray.dir) + sunDisc(ray.dir);
             endRecord(record, "sky", kInfinity, weight * radiance);
+            makeUp(record, radiance, glm::vec3(1.0f), glm::vec3(0.0f), factor * radiance);
             return radiance;
         }
-        radiance = shade(ray, hit, depth, weight, sigma, inAir);
-        if (sigma != glm::vec3(0.0f)) radiance *= beerLambert(sigma, hit.t);
+        const glm::vec3 atHit = shade(ray, hit, depth, weight, sigma, inAir, record);
+        glm::vec3 passed{1.0f}, inscattered{0.0f};
+        if (sigma != glm::vec3(0.0f)) passed = beerLambert(sigma, hit.t);
         // Aerial perspective on every segment through the air: the camera's own, and those of reflections and
         // of rays leaving glass or water (already part of the sky's radiance for rays that miss). The tables
         // hold the air seen from the camera's height, which segments that start elsewhere take as theirs.
-        if (inAir && aerial_) radiance = sky_.throughAir(radiance, ray.dir, hit.t);
+        if (inAir && aerial_) {
+            glm::vec3 air;
+            sky_.air(ray.dir, hit.t, air, inscattered);
+            passed *= air;
+        }
+        radiance = atHit * passed + inscattered;
         endRecord(record, scene_.objects()[size_t(hit.object)].name, hit.t, weight * radiance);
+        makeUp(record, atHit, passed, inscattered, factor * radiance);
         return radiance;
     }
 
 private:
+    // `record` is the debug tree's record of `ray`.
     glm::vec3 shade(const Ray& ray, const SurfaceHit& hit, int depth, const glm::vec3& weight, const glm::vec3& sigma,
-                    bool inAir) {
+                    bool inAir, size_t record) {
         const SceneObject& obj = scene_.objects()[size_t(hit.object)];
         const MaterialDescription& m = scene_.materials()[size_t(obj.material)];
         const bool entering = glm::dot(ray.dir, hit.normal) < 0.0;
@@ -146,7 +156,7 @@ private:
 
         if (m.kd > 0.0f || m.ks > 0.0f) {
             const glm::vec3 albedo = surfaceColour(obj, m, hit);
-            if (m.kd > 0.0f) radiance += albedo * m.kd * skyLight(hit, n, depth, weight, ray.time);
+            if (m.kd > 0.0f) radiance += skyLight(hit, n, depth, weight, ray.time, albedo * m.kd, record);
             for (size_t li = 0; li < scene_.lights().size(); ++li) {
                 const SceneLight& light = scene_.lights()[li];
                 LightSample ls = sampleLight(light, hit.point, samples_.light(depth, int(li)));
@@ -170,6 +180,7 @@ private:
                     if (cosR > 0.0) local += glm::vec3(m.ks * float(std::pow(cosR, double(m.exponent))));
                 }
                 radiance += t * ls.irradiance * local;
+                if (tree_) (*tree_)[lastShadowRecord_].share = t * ls.irradiance * local;
             }
         }
         if (depth >= s_.maxDepth) return radiance;
@@ -178,7 +189,8 @@ private:
             const glm::vec3 w = weight * m.mirror;
             if (maxComponent(w) >= s_.minWeight) {
                 const glm::dvec3 r = reflectedDirection(ray.dir, n, m.gloss, depth);
-                radiance += m.mirror * trace(spawn(hit, r, ray.time), RayKind::Reflection, depth + 1, w, sigma, inAir);
+                radiance += m.mirror * trace(spawn(hit, r, ray.time), RayKind::Reflection, depth + 1, w, sigma, inAir,
+                                             m.mirror);
             }
         }
         if (m.dielectric) radiance += refractAndReflect(ray, hit, m, entering, n, depth, weight, sigma, inAir);
@@ -209,13 +221,14 @@ private:
             const glm::vec3 w = weight * mask * float(1.0 - f);
             if (f >= 1.0 || maxComponent(w) < s_.minWeight) continue;
             if (const auto t = refract(ray.dir, n, etaFrom, etaTo))
-                result += mask * float(1.0 - f) *
-                          trace(spawn(hit, *t, ray.time), RayKind::Refraction, depth + 1, w, sigmaAfter, !entering);
+                result += mask * float(1.0 - f) * trace(spawn(hit, *t, ray.time), RayKind::Refraction, depth + 1, w,
+                                                        sigmaAfter, !entering, mask * float(1.0 - f));
         }
         const glm::vec3 w = weight * reflectance;
         if (maxComponent(w) >= s_.minWeight) {
             const glm::dvec3 r = glm::normalize(reflect(ray.dir, n));
-            result += reflectance * trace(spawn(hit, r, ray.time), RayKind::Reflection, depth + 1, w, sigma, inAir);
+            result += reflectance * trace(spawn(hit, r, ray.time), RayKind::Reflection, depth + 1, w, sigma, inAir,
+                                          reflectance);
         }
         return result;
     }
@@ -228,6 +241,7 @@ private:
         counters_.count(RayKind::Shadow);
         Ray ray = spawn(from, dir, time);
         const size_t record = beginRecord(ray, RayKind::Shadow, depth + 1, weight);
+        lastShadowRecord_ = record;
         const double reach = distance - from.errorM;
         if (scene_.occludedByOpaque(ray, {0.0, reach})) {
             endRecord(record, "blocked", 0.0, glm::vec3(0.0f));
@@ -330,22 +344,29 @@ private:
         return elevationAlbedo(hit.point.z - hf->offset().z, hf->grid().minHeightM(), hf->grid().maxHeightM());
     }
 
-    // Light from the sky on a diffuse surface (before albedo): the sky's light on a surface so oriented, times the
-    // open fraction of the hemisphere when the sky asks for visibility rays (cosine-weighted directions about the
-    // normal, each tested against opaque objects), so that valleys and the ground under objects get less of it.
-    // Weighting visibility rather than each ray's radiance keeps open ground free of noise.
-    glm::vec3 skyLight(const SurfaceHit& hit, const glm::dvec3& n, int depth, const glm::vec3& weight, double time) {
+    // Light from the sky on a diffuse surface of reflectance `diffuse` (albedo times kd): the sky's light on a
+    // surface so oriented, times the open fraction of the hemisphere when the sky asks for visibility rays
+    // (cosine-weighted directions about the normal, each tested against opaque objects), so that valleys and the
+    // ground under objects get less of it. Weighting visibility rather than each ray's radiance keeps open ground
+    // free of noise. `record` is the debug tree's record of the ray that met the surface.
+    glm::vec3 skyLight(const SurfaceHit& hit, const glm::dvec3& n, int depth, const glm::vec3& weight, double time,
+                       const glm::vec3& diffuse, size_t record) {
         if (sky_.ambientScale() <= 0.0f) return glm::vec3(0.0f);
         const glm::vec3 open = sky_.ambient(n.z);
         const int count = scene_.sky().samples;
-        if (count <= 0) return open;
-        return open * openSkyFraction(n, count, samples_.skyShift(depth), [&](const glm::dvec3& dir) {
+        if (count <= 0) {
+            if (tree_) (*tree_)[record].skyLight = diffuse * open;
+            return diffuse * open;
+        }
+        return diffuse * open * openSkyFraction(n, count, samples_.skyShift(depth), [&](const glm::dvec3& dir) {
                    counters_.count(RayKind::SkyVisibility);
                    const Ray ray = spawn(hit, dir, time);
-                   const size_t record = beginRecord(ray, RayKind::SkyVisibility, depth + 1, weight);
+                   const size_t visibility = beginRecord(ray, RayKind::SkyVisibility, depth + 1, weight);
                    const bool blocked = scene_.occludedByOpaque(ray, {0.0, kInfinity});
-                   endRecord(record, blocked ? "blocked" : "sky", blocked ? 0.0 : kInfinity,
+                   endRecord(visibility, blocked ? "blocked" : "sky", blocked ? 0.0 : kInfinity,
                              blocked ? glm::vec3(0.0f) : open);
+                   // Each open direction adds its part of the sky's light.
+                   if (tree_ && !blocked) (*tree_)[visibility].share = diffuse * open / float(count);
                    return blocked;
                });
     }
@@ -390,6 +411,14 @@ private:
         (*tree_)[k].t = t;
         (*tree_)[k].contribution = contribution;
     }
+    void makeUp(size_t k, const glm::vec3& atHit, const glm::vec3& passed, const glm::vec3& inscattered,
+                const glm::vec3& share) {
+        if (!tree_) return;
+        (*tree_)[k].atHit = atHit;
+        (*tree_)[k].passed = passed;
+        (*tree_)[k].inscattered = inscattered;
+        (*tree_)[k].share = share;
+    }
 
     const Scene& scene_;
     const Sky& sky_;
@@ -398,6 +427,7 @@ private:
     std::vector<RayRecord>* tree_;
     SampleSource samples_;
     bool aerial_;
+    size_t lastShadowRecord_ = 0;  // the debug tree's record of the last shadow ray towards a light
 };
 
 // One camera sample: its film position (drawn in proportion to the pixel filter, so that every sample weighs
@@ -418,7 +448,7 @@ glm::vec3 cameraSample(const Scene& scene, const Sky& sky, const SceneCamera& ca
     const bool aerial = sky.aerialPerspective() && camera.kind() != CameraKind::Orthographic;
     Tracer tracer(scene, sky, s, counters, tree, SampleSource(sampler, x, y, k, int(scene.lights().size()), s.seed),
                   aerial);
-    return tracer.trace(*ray, RayKind::Primary, 0, glm::vec3(1.0f), glm::vec3(0.0f), true);
+    return tracer.trace(*ray, RayKind::Primary, 0, glm::vec3(1.0f), glm::vec3(0.0f), true, glm::vec3(1.0f));
 }
 
 glm::vec3 pixelValue(const Scene& scene, const Sky& sky, const SceneCamera& camera, const SceneRenderSettings& s,

@@ -66,6 +66,16 @@ struct RayRecord {
     glm::vec3 weight{1.0f};       // path weight of the ray
     glm::vec3 contribution{0.0f}; // radiance the ray returns, times its weight; for a shadow ray, the
                                   // transmittance towards the light (0 when blocked), unweighted
+    // How the radiance the ray returns is made, so that a tree adds up: what leaves its hit towards it
+    // (`atHit`: the sky light added without rays, plus the `share` of each of its child records), times what
+    // crosses the medium on the way (`passed`: Beer-Lambert in glass or water, the air's transmittance with
+    // aerial perspective), plus the light the air scatters into it (`inscattered`, the haze). For a ray that
+    // meets no object, `atHit` is the sky's radiance.
+    glm::vec3 share{0.0f};        // what this ray adds to its parent's atHit (for a camera ray, to the pixel)
+    glm::vec3 atHit{0.0f};
+    glm::vec3 skyLight{0.0f};     // part of atHit: the sky's light on a diffuse hit, when no rays measure it
+    glm::vec3 passed{1.0f};
+    glm::vec3 inscattered{0.0f};
 };
 
 // The camera the description asks for, framing the scene automatically where eye or look_at are unset.

@@ -83,4 +83,12 @@ glm::vec3 Sky::throughAir(const glm::vec3& surface, const glm::dvec3& dir, doubl
     return t * surface + skyScale_ * in;
 }
 
+void Sky::air(const glm::dvec3& dir, double distanceM, glm::vec3& transmittance, glm::vec3& inscattered) const {
+    transmittance = glm::vec3(1.0f);
+    inscattered = glm::vec3(0.0f);
+    if (!aerialPerspective()) return;
+    tables_->aerial(dir, distanceM, transmittance, inscattered);
+    inscattered *= skyScale_;
+}
+
 }  // namespace terracast

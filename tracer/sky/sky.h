@@ -61,6 +61,8 @@ public:
     // What the viewer sees of a surface of radiance `surface` at `distanceM` along `dir`: dimmed by the air and
     // with the light the air scatters in added (aerial perspective). Unchanged unless enabled.
     glm::vec3 throughAir(const glm::vec3& surface, const glm::dvec3& dir, double distanceM) const;
+    // The two terms of throughAir: the air's transmittance and the light it scatters in (1 and 0 unless enabled).
+    void air(const glm::dvec3& dir, double distanceM, glm::vec3& transmittance, glm::vec3& inscattered) const;
     bool aerialPerspective() const { return tables_ && d_.aerialPerspective; }
 
     // Sky light on a surface of normal z-component `normalZ` with the whole sky open: the cosine-weighted mean
