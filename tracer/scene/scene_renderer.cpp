@@ -112,8 +112,8 @@ public:
         : scene_(scene), sky_(sky), s_(settings), counters_(counters), tree_(tree), samples_(samples), aerial_(aerial) {}
 
     // Radiance arriving along `ray` (unit direction), travelling through a medium absorbing `sigma` per metre,
-    // which is the air when `inAir` (outside every dielectric).
-    // `factor` is what the caller multiplies the result by (for the debug tree's shares).
+    // which is the air when `inAir` (outside every dielectric). `factor` is what the caller multiplies the result
+    // by: the ray's share of the light leaving its parent's hit, for the debug tree.
     glm::vec3 trace(const Ray& ray, RayKind kind, int depth, const glm::vec3& weight, const glm::vec3& sigma,
                     bool inAir, const glm::vec3& factor) {
         counters_.count(kind);

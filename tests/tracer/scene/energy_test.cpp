@@ -2,6 +2,7 @@
 // most the sky's radiance for every kind of material a scene file describes with the defaults; a fully white
 // diffuse surface returns it exactly; weights a file gives that add up to more than 1, and a scene without
 // objects, are warned about; and a colour given for a height field is the terrain's colour.
+#include "support/scene_builders.h"
 #include "support/scene_text.h"
 #include "tracer/scene/scene_renderer.h"
 
@@ -32,13 +33,7 @@ SceneDescription furnace(const std::string& material) {
 float brightest(const SceneDescription& d) {
     const Scene scene(d, {});
     const SceneCamera camera = makeSceneCamera(scene, d.camera, 1.0);
-    SceneRenderSettings s;
-    s.width = d.render.width;
-    s.height = d.render.height;
-    s.maxDepth = d.render.maxDepth;
-    s.minWeight = d.render.minWeight;
-    s.threads = 2;
-    const Film film = renderScene(scene, camera, s, nullptr);
+    const Film film = renderScene(scene, camera, settingsFor(d), nullptr);
     return *std::max_element(film.rgb.begin(), film.rgb.end());
 }
 

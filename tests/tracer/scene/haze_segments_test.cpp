@@ -1,5 +1,6 @@
 // Aerial perspective on every segment through the air: a wall seen in a mirror is hazed over the whole path,
 // mirror and all, as the same wall seen directly at the same distance, and neither is hazed at a short distance.
+#include "support/scene_builders.h"
 #include "tracer/scene/scene_renderer.h"
 
 #include <catch2/catch.hpp>
@@ -7,17 +8,9 @@
 #include <cmath>
 
 using namespace terracast;
+using namespace terracast::testing;
 
 namespace {
-
-ObjectDescription box(glm::dvec3 lo, glm::dvec3 hi, const std::string& material) {
-    ObjectDescription o;
-    o.kind = ObjectKind::Box;
-    o.boxMin = lo;
-    o.boxMax = hi;
-    o.material = material;
-    return o;
-}
 
 // The centre pixel of a camera at (0, 0, 100) looking north (+y) at a grey wall `distance` metres away: straight
 // ahead, or (with `mirror`) through a mirror 1 m ahead that turns the view west, the wall then distance - 1 m

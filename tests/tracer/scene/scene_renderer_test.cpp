@@ -1,6 +1,7 @@
 // The Whitted scene tracer against analytic answers: sphere silhouettes and distances, Fresnel, total internal
 // reflection, Beer-Lambert through a slab, a mirror image, the rays each scene pays for, shadows through glass
 // under either Fresnel model, and dispersion by Snell's law per colour channel.
+#include "support/scene_builders.h"
 #include "tracer/scene/optics.h"
 #include "tracer/scene/scene_renderer.h"
 
@@ -10,63 +11,9 @@
 #include <random>
 
 using namespace terracast;
+using namespace terracast::testing;
 
 namespace {
-
-ObjectDescription sphere(glm::dvec3 c, double r, const std::string& material = "") {
-    ObjectDescription o;
-    o.kind = ObjectKind::Sphere;
-    o.centre = c;
-    o.radiusM = r;
-    o.material = material;
-    return o;
-}
-
-ObjectDescription box(glm::dvec3 lo, glm::dvec3 hi, const std::string& material = "") {
-    ObjectDescription o;
-    o.kind = ObjectKind::Box;
-    o.boxMin = lo;
-    o.boxMax = hi;
-    o.material = material;
-    return o;
-}
-
-ObjectDescription plane(glm::dvec3 p, glm::dvec3 n, const std::string& material = "") {
-    ObjectDescription o;
-    o.kind = ObjectKind::Plane;
-    o.point = p;
-    o.normal = n;
-    o.material = material;
-    return o;
-}
-
-CameraDescription lookingAt(glm::dvec3 eye, glm::dvec3 look, double fov = 40.0) {
-    CameraDescription c;
-    c.eye = eye;
-    c.lookAt = look;
-    c.fovDeg = fov;
-    return c;
-}
-
-// Clear glass of index 1.5 with no diffuse part, named "glass".
-MaterialDescription clearGlass() {
-    MaterialDescription glass;
-    glass.name = "glass";
-    glass.kd = 0.0f;
-    glass.dielectric = true;
-    glass.ior = glm::vec3(1.5f);
-    return glass;
-}
-
-SceneRenderSettings settingsFor(const SceneDescription& d) {
-    SceneRenderSettings s;
-    s.width = d.render.width;
-    s.height = d.render.height;
-    s.maxDepth = d.render.maxDepth;
-    s.minWeight = d.render.minWeight;
-    s.threads = 2;
-    return s;
-}
 
 int countKind(const std::vector<RayRecord>& tree, RayKind kind) {
     return int(std::count_if(tree.begin(), tree.end(), [&](const RayRecord& r) { return r.kind == kind; }));

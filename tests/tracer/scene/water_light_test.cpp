@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <memory>
+#include <string>
 #include <vector>
 
 using namespace terracast;
@@ -24,6 +25,27 @@ double fresnelReference(double cosI, double n1, double n2) {
     return 0.5 * (rs * rs + rp * rp);
 }
 
+// A white material named `name` that colours terrain plainly.
+MaterialDescription whiteGround(const std::string& name) {
+    MaterialDescription m;
+    m.name = name;
+    m.colour = glm::vec3(1.0f);
+    m.terrain = TerrainColouring::Plain;
+    return m;
+}
+
+// Water named "water" of index `n` absorbing `sigma` per metre, with the exact Fresnel reflectance.
+MaterialDescription water(double n, const glm::dvec3& sigma) {
+    MaterialDescription m;
+    m.name = "water";
+    m.kd = 0.0f;
+    m.dielectric = true;
+    m.ior = glm::vec3(float(n));
+    m.absorptionPerM = glm::vec3(sigma);
+    m.fresnel = FresnelModel::Exact;
+    return m;
+}
+
 }  // namespace
 
 TEST_CASE("A lake bed receives the sun through the water at any elevation, as Fresnel, Snell and Beer-Lambert say",
@@ -33,19 +55,8 @@ TEST_CASE("A lake bed receives the sun through the water at any elevation, as Fr
     for (const double elevationDeg : {10.0, 30.0, 45.0, 70.0}) {
         INFO("sun elevation " << elevationDeg << " degrees");
         SceneDescription d;
-        MaterialDescription bed;
-        bed.name = "bed";
-        bed.colour = glm::vec3(1.0f);
-        bed.terrain = TerrainColouring::Plain;
-        d.materials.push_back(bed);
-        MaterialDescription water;
-        water.name = "water";
-        water.kd = 0.0f;
-        water.dielectric = true;
-        water.ior = glm::vec3(float(n));
-        water.absorptionPerM = glm::vec3(sigma);
-        water.fresnel = FresnelModel::Exact;
-        d.materials.push_back(water);
+        d.materials.push_back(whiteGround("bed"));
+        d.materials.push_back(water(n, sigma));
         // A flat bed 41 m square at z = 0, under water 2 m deep.
         const int size = 41;
         SceneAssets assets;
@@ -104,18 +115,8 @@ struct RampView {
 
 RampView rampView(double base, double level, double eyeZ, bool withWater) {
     SceneDescription d;
-    MaterialDescription ground;
-    ground.name = "ground";
-    ground.colour = glm::vec3(1.0f);
-    ground.terrain = TerrainColouring::Plain;
-    d.materials.push_back(ground);
-    MaterialDescription water;
-    water.name = "water";
-    water.kd = 0.0f;
-    water.dielectric = true;
-    water.ior = glm::vec3(1.333f);
-    water.absorptionPerM = glm::vec3(1.0f);
-    d.materials.push_back(water);
+    d.materials.push_back(whiteGround("ground"));
+    d.materials.push_back(water(1.333, glm::dvec3(1.0)));
     const int w = 21, h = 5;
     std::vector<float> heights(size_t(w) * h);
     for (int j = 0; j < h; ++j)
