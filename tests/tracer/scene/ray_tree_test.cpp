@@ -35,8 +35,8 @@ TEST_CASE("The debug ray tree's shares add up to each ray's radiance and to the 
             s.samples = 1;
             const SceneCamera camera = makeSceneCamera(scene, d.camera, double(s.width) / double(s.height));
             int reflected = 0, hazed = 0, checked = 0;
-            for (int y = 0; y < s.height; y += 3)
-                for (int x = 0; x < s.width; x += 3) {
+            for (int y = 0; y < s.height; y += 10)
+                for (int x = 0; x < s.width; x += 10) {
                     INFO(name << " with " << skySamples << " sky rays, pixel " << x << "," << y);
                     std::vector<RayRecord> tree;
                     const glm::vec3 pixel = tracePixel(scene, camera, s, x, y, &tree);
@@ -57,7 +57,7 @@ TEST_CASE("The debug ray tree's shares add up to each ray's radiance and to the 
                     }
                 }
             INFO(name << ": " << checked << " rays checked, " << reflected << " reflections, " << hazed << " hazed");
-            CHECK(checked > 100);
+            CHECK(checked > 20);
         }
     }
 }
