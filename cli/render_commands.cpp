@@ -26,7 +26,7 @@ void addRenderCommand(CLI::App& app, Commands& commands) {
     struct Texts {
         DemRenderOptions options;
         std::string size = "1280x720", sun = "315,35", method = "bilinear", view = "perspective", colour = "grey";
-        std::string sky = "physical", sunTime, camera;
+        std::string sky = "physical", sunTime, camera, normals = "smooth";
         bool noShadows = false, quiet = false;
     };
     auto t = std::make_shared<Texts>();
@@ -64,6 +64,9 @@ void addRenderCommand(CLI::App& app, Commands& commands) {
     cmd->add_option("--sun-time", t->sunTime,
                     "Place the sun where it stands at this instant over the DEM's centre, e.g. "
                     "2026-06-21T19:30Z (instead of --sun)");
+    cmd->add_option("--normals", t->normals,
+                    "Perspective: shade with smooth normals interpolated from the vertices' gradients (default), or "
+                    "facet: each cell's own surface normal; hits and shadows are the same either way");
     cmd->add_option("--seed", render.seed, "Random seed for the sky-visibility directions (default 0)");
     cmd->add_option("--colour", t->colour, "Map view: grey (default) or ramp (by elevation)");
     cmd->add_option("--hillshade-blend", render.hillshadeBlend,
@@ -90,6 +93,10 @@ void addRenderCommand(CLI::App& app, Commands& commands) {
                                     r.sky = *sky;
                                     r.camera = parseCameraOption(t->camera);
                                 }
+                                if (t->normals != "smooth" && t->normals != "facet")
+                                    throw InputError(
+                                        fmt::format("--normals: expected smooth or facet, found '{}'", t->normals));
+                                r.smoothNormals = t->normals == "smooth";
                                 r.castShadows = !t->noShadows;
                                 r.colourRamp = t->colour == "ramp";
                                 const ConsoleListener console(t->quiet);

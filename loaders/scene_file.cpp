@@ -247,6 +247,7 @@ const std::vector<KeyRule> kObjectKeys{
     {"method", {"heightfield"}},
     {"cell_size", {"heightfield"}},
     {"height_scale", {"heightfield"}},
+    {"normals", {"heightfield"}},
     {"center", {"sphere"}},
     {"radius", {"sphere"}},
     {"point", {"plane"}},
@@ -270,6 +271,8 @@ void parseHeightField(const TomlFile& scene, const TableReader& t, const std::st
     if (const auto method = t.choice<SurfaceMethod>("method", methods)) o.method = *method;
     if (const auto cell = t.number("cell_size", kPositive)) o.cellSizeM = *cell;
     if (const auto scale = t.number("height_scale", kPositive)) o.heightScale = *scale;
+    static constexpr std::array<Choice<bool>, 2> kNormals{{{"smooth", true}, {"facet", false}}};
+    if (const auto smooth = t.choice<bool>("normals", kNormals)) o.smoothNormals = *smooth;
 }
 
 // Refuses a triangle or polygon without area, or a polygon whose vertices do not share a plane. The plane is

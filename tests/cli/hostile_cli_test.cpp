@@ -442,6 +442,7 @@ TEST_CASE("Hostile inputs: malformed and out-of-range option values", "[cli][hos
         {"an unknown --view", with(render, {"--view", "sideways"}), "--view: expected perspective or map, found 'sideways'"},
         {"an unknown --sky", with(render, {"--sky", "cloudy"}), "--sky: expected physical, gradient, flat or none, found 'cloudy'"},
         {"an unknown --colour", with(render, {"--view", "map", "--colour", "rainbow"}), "--colour: expected grey or ramp, found 'rainbow'"},
+        {"an unknown --normals", with(render, {"--normals", "smoth"}), "--normals: expected smooth or facet, found 'smoth'"},
         {"--max-memory 10Q", with(render, {"--max-memory", "10Q"}), "--max-memory: expected a size such as 512M or 8G, found '10Q'"},
         {"--max-memory -1G", with(render, {"--max-memory", "-1G"}), "--max-memory: expected a size such as 512M or 8G, found '-1G'"},
         {"--max-memory 0", with(render, {"--max-memory", "0"}), "--max-memory: expected a size such as 512M or 8G, found '0'"},

@@ -111,6 +111,17 @@ TEST_CASE("Scene file: a value of the wrong type says what was expected and foun
     CHECK(errorOf("[[object]]\ntype = \"heightfield\"\nfile = \"dem.tif\"\nmethod = \"bilinar\"\n") ==
           "scene.toml:4:10: method: expected one of \"bilinear\", \"bilinear-double\", \"triangles\", \"nearest\", "
           "\"reference\", \"embree\", \"embree-grid\", found \"bilinar\" (did you mean \"bilinear\"?)");
+    CHECK(errorOf("[[object]]\ntype = \"heightfield\"\nfile = \"dem.tif\"\nnormals = \"smoth\"\n") ==
+          "scene.toml:4:11: normals: expected one of \"smooth\", \"facet\", found \"smoth\" (did you mean "
+          "\"smooth\"?)");
+    CHECK(errorOf("[[object]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\nnormals = \"facet\"\n").find(
+              "normals") != std::string::npos);
+    const SceneFolder folder;
+    const SceneDescription s = parse("[[object]]\ntype = \"heightfield\"\nfile = \"dem.tif\"\nnormals = \"facet\"\n"
+                                     "[[object]]\ntype = \"heightfield\"\nfile = \"dem.tif\"\n",
+                                     folder);
+    CHECK_FALSE(s.objects[0].smoothNormals);
+    CHECK(s.objects[1].smoothNormals);
 }
 
 TEST_CASE("Scene file: integers are accepted where numbers are expected", "[loaders]") {

@@ -2,6 +2,8 @@
 
 #include "tracer/core/angles.h"
 
+#include "heightfield/shading_normals.h"
+
 #include <cmath>
 #include <limits>
 
@@ -240,8 +242,8 @@ bool BoxPrimitive::intersect(const Ray& ray, Interval interval, SurfaceHit& hit)
 }
 
 HeightFieldPrimitive::HeightFieldPrimitive(std::shared_ptr<const HeightGrid> grid, const glm::dvec3& offsetM,
-                                           SurfaceMethod method, int threads)
-    : grid_(std::move(grid)), offset_(offsetM), surface_(*grid_, method, threads) {}
+                                           SurfaceMethod method, int threads, bool smoothNormals)
+    : grid_(std::move(grid)), offset_(offsetM), surface_(*grid_, method, threads), smoothNormals_(smoothNormals) {}
 
 bool HeightFieldPrimitive::intersect(const Ray& ray, Interval interval, SurfaceHit& hit) const {
     const Ray local{ray.origin - offset_, ray.dir, ray.time};
@@ -252,6 +254,7 @@ bool HeightFieldPrimitive::intersect(const Ray& ray, Interval interval, SurfaceH
     hit.normal = h->normal;
     hit.uv = {(double(h->cellX) + h->u) / double(grid_->cellsX()), (double(h->cellY) + h->v) / double(grid_->cellsY())};
     hit.errorM = std::max(h->errorM, pointError(hit.point));
+    if (smoothNormals_) hit.shading = smoothNormal(*grid_, h->cellX, h->cellY, h->u, h->v);
     return true;
 }
 

@@ -37,6 +37,8 @@ struct SurfaceHit {
     glm::dvec3 point{0.0};       // hit position, scene metres
     glm::dvec3 normal{0, 0, 1};  // unit geometric normal on the primitive's outer side (not flipped to the ray)
     glm::dvec2 uv{0.0};          // surface coordinates: for a height field, the position over the grid in [0, 1]^2
+    glm::dvec3 shading{0.0};     // unit shading normal on the outer side where it differs from `normal` (a height
+                                 // field's smooth normal); zero where shading uses `normal`
     double errorM = 0.0;         // bound on the position's rounding error: spawned rays start this far off
     int object = -1;             // index of the object hit, set by the scene
 };
@@ -126,7 +128,7 @@ private:
 class HeightFieldPrimitive final : public Primitive {
 public:
     HeightFieldPrimitive(std::shared_ptr<const HeightGrid> grid, const glm::dvec3& offsetM, SurfaceMethod method,
-                         int threads = 0);
+                         int threads = 0, bool smoothNormals = true);
     bool intersect(const Ray& ray, Interval interval, SurfaceHit& hit) const override;
     bool occluded(const Ray& ray, Interval interval) const override;
     Bounds3 bounds() const override;
@@ -138,6 +140,7 @@ private:
     std::shared_ptr<const HeightGrid> grid_;
     glm::dvec3 offset_;
     TerrainSurface surface_;
+    bool smoothNormals_;
 };
 
 // A body of water over a height field's footprint: a horizontal surface at `levelM` over the footprint's

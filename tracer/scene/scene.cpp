@@ -15,7 +15,8 @@ std::unique_ptr<Primitive> makePrimitive(const ObjectDescription& o, const Scene
     case ObjectKind::HeightField: {
         if (nextGrid >= assets.grids.size() || !assets.grids[nextGrid])
             throw std::invalid_argument("scene: no height grid loaded for object '" + o.name + "'");
-        return std::make_unique<HeightFieldPrimitive>(assets.grids[nextGrid++], o.offsetM, o.method, threads);
+        return std::make_unique<HeightFieldPrimitive>(assets.grids[nextGrid++], o.offsetM, o.method, threads,
+                                                      o.smoothNormals);
     }
     case ObjectKind::Sphere: return std::make_unique<SpherePrimitive>(o.centre, o.radiusM);
     case ObjectKind::Plane: return std::make_unique<PlanePrimitive>(o.point, o.normal);

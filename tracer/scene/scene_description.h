@@ -72,6 +72,7 @@ struct ObjectDescription {
     SurfaceMethod method = SurfaceMethod::Bilinear;
     double cellSizeM = 1.0;            // PNG height maps: metres between samples
     double heightScale = 1.0;          // PNG height maps: metres per stored unit
+    bool smoothNormals = true;         // shade with smooth normals ("smooth") or each cell's own ("facet")
     // Sphere.
     glm::dvec3 centre{0.0};
     double radiusM = 1.0;

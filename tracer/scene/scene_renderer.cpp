@@ -152,11 +152,14 @@ private:
         const MaterialDescription& m = scene_.materials()[size_t(obj.material)];
         const bool entering = glm::dot(ray.dir, hit.normal) < 0.0;
         const glm::dvec3 n = entering ? hit.normal : -hit.normal;  // facing the ray
+        // What diffuse and Phong shading read: a height field's smooth normal, or the surface's own. Reflection,
+        // refraction and which lights can reach the point stay with the geometric normal.
+        const glm::dvec3 shading = hit.shading == glm::dvec3(0.0) ? n : entering ? hit.shading : -hit.shading;
         glm::vec3 radiance{0.0f};
 
         if (m.kd > 0.0f || m.ks > 0.0f) {
             const glm::vec3 albedo = surfaceColour(obj, m, hit);
-            if (m.kd > 0.0f) radiance += skyLight(hit, n, depth, weight, ray.time, albedo * m.kd, record);
+            if (m.kd > 0.0f) radiance += skyLight(hit, shading, depth, weight, ray.time, albedo * m.kd, record);
             for (size_t li = 0; li < scene_.lights().size(); ++li) {
                 const SceneLight& light = scene_.lights()[li];
                 LightSample ls = sampleLight(light, hit.point, samples_.light(depth, int(li)));
@@ -169,14 +172,15 @@ private:
                     if (!bent) continue;  // a sun below the horizon does not light the water
                     toLight = *bent;
                 }
-                const double cosL = glm::dot(n, toLight);
-                if (cosL <= 0.0) continue;  // the surface faces away: no shadow ray
+                // The surface faces away: no shadow ray (and none lights a smooth normal past the terminator).
+                const double cosL = std::min(glm::dot(n, toLight), glm::dot(shading, toLight));
+                if (cosL <= 0.0) continue;
                 const glm::vec3 t = water ? sunThroughWater(hit, ls.dir, toLight, *water, depth, weight, ray.time)
                                           : shadowTransmittance(hit, ls.dir, ls.distance, sigma, depth, weight, ray.time);
                 if (t == glm::vec3(0.0f)) continue;
-                glm::vec3 local = albedo * m.kd * float(cosL);
+                glm::vec3 local = albedo * m.kd * float(glm::dot(shading, toLight));
                 if (m.ks > 0.0f) {
-                    const double cosR = glm::dot(reflect(-toLight, n), -ray.dir);
+                    const double cosR = glm::dot(reflect(-toLight, shading), -ray.dir);
                     if (cosR > 0.0) local += glm::vec3(m.ks * float(std::pow(cosR, double(m.exponent))));
                 }
                 radiance += t * ls.irradiance * local;
@@ -332,7 +336,7 @@ private:
         if (obj.kind != ObjectKind::HeightField) return m.colour;
         const auto* hf = static_cast<const HeightFieldPrimitive*>(obj.primitive.get());
         switch (m.terrain) {
-        case TerrainColouring::Slope: return slopeAlbedo(hit.normal.z);
+        case TerrainColouring::Slope: return slopeAlbedo(hit.shading == glm::dvec3(0.0) ? hit.normal.z : hit.shading.z);
         case TerrainColouring::Drape: {
             const auto& drape = scene_.drapes()[size_t(obj.material)];
             if (drape) return drape->sample(hit.uv.x, hit.uv.y);

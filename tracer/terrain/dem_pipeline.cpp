@@ -262,6 +262,7 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     s.sky.haze = o.haze;
     s.sky.samples = o.skySamples < 0 ? 4 : o.skySamples;
     s.seed = o.seed;
+    s.smoothNormals = o.smoothNormals;
     s.progress = progressWithTiles(listener, grid);
 
     prepareImageWriter(o.output);

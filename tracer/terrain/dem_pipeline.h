@@ -73,6 +73,7 @@ struct DemRenderOptions {
     SkyKind sky = SkyKind::Physical;           // perspective: the sky model
     double haze = 1.0;                         // physical sky: multiplies Mie (aerosol) scattering
     uint64_t seed = 0;                         // sky-visibility directions
+    bool smoothNormals = true;                 // perspective: shade with smooth normals (--normals smooth)
     bool colourRamp = false;                   // map view: elevation colours instead of grey
     double hillshadeBlend = 0.0;               // map view: weight of a plain hillshade, 0..1
 };

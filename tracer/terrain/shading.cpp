@@ -1,5 +1,7 @@
 #include "tracer/terrain/shading.h"
 
+#include "heightfield/shading_normals.h"
+
 #include "tracer/core/angles.h"
 #include "tracer/sampling/rng.h"
 #include "tracer/sampling/warps.h"
@@ -70,20 +72,27 @@ glm::vec3 shadeTerrainHit(const HeightGrid& grid, const HeightFieldHit& hit, con
 }
 
 TerrainShader::TerrainShader(const HeightGrid& grid, const TerrainSurface& surface, const Sun& sun,
-                             const SkyDescription& sky, double viewerAltitudeM, uint64_t seed)
-    : grid_(grid), surface_(surface), sun_(sun), skySamples_(sky.samples), seed_(seed), toSun_(sun.direction()),
+                             const SkyDescription& sky, double viewerAltitudeM, uint64_t seed, bool smoothNormals)
+    : grid_(grid), surface_(surface), sun_(sun), skySamples_(sky.samples), seed_(seed), smoothNormals_(smoothNormals),
+      toSun_(sun.direction()),
       sunIrradiance_((sky.kind == SkyKind::Physical ? glm::vec3(1.0f) : kSunColour) * sun.intensity),
       sky_(sky, SkySun{toSun_, sunIrradiance_}, viewerAltitudeM) {}
 
 glm::vec3 TerrainShader::hit(const HeightFieldHit& hit, const Ray& ray, int px, int py, int64_t& shadowRays,
                              int64_t& skyRays) const {
-    const glm::dvec3 n = facingNormal(hit, ray.dir);
+    // The shading normal, on the side the ray came from; whether the sun can reach the point is the geometric
+    // surface's to say (sunShadowRay), so smooth shading changes no shadow.
+    glm::dvec3 n = facingNormal(hit, ray.dir);
+    if (smoothNormals_) {
+        const glm::dvec3 smooth = smoothNormal(grid_, hit.cellX, hit.cellY, hit.u, hit.v);
+        n = glm::dot(hit.normal, ray.dir) > 0.0 ? -smooth : smooth;
+    }
     const glm::vec3 albedo = elevationAlbedo(hit.pointM.z, grid_.minHeightM(), grid_.maxHeightM());
     glm::vec3 light{0.0f};
     if (const auto shadowRay = sunShadowRay(hit, ray.dir, sun_)) {
         ++shadowRays;
         if (!surface_.occluded(*shadowRay, {0.0, kInfinity}))
-            light += sky_.sunlight(sunIrradiance_, toSun_, hit.pointM.z) * float(glm::dot(n, toSun_));
+            light += sky_.sunlight(sunIrradiance_, toSun_, hit.pointM.z) * float(std::max(0.0, glm::dot(n, toSun_)));
     }
     light += skyLight(hit, n, px, py, skyRays);
     return sky_.throughAir(albedo * light, ray.dir, hit.t);

@@ -44,9 +44,10 @@ glm::vec3 shadeTerrainHit(const HeightGrid& grid, const HeightFieldHit& hit, con
 // along the camera ray.
 class TerrainShader {
 public:
-    // `viewerAltitudeM` places the camera in the atmosphere; `seed` spreads the sky-visibility directions.
+    // `viewerAltitudeM` places the camera in the atmosphere; `seed` spreads the sky-visibility directions;
+    // `smoothNormals` shades with the smooth normal (smoothNormal) rather than each cell's own.
     TerrainShader(const HeightGrid& grid, const TerrainSurface& surface, const Sun& sun, const SkyDescription& sky,
-                  double viewerAltitudeM, uint64_t seed);
+                  double viewerAltitudeM, uint64_t seed, bool smoothNormals = true);
 
     // What a camera ray that meets no terrain sees.
     glm::vec3 miss(const glm::dvec3& dir) const { return sky_.radiance(dir); }
@@ -62,6 +63,7 @@ private:
     Sun sun_;
     int skySamples_;
     uint64_t seed_;
+    bool smoothNormals_;
     glm::dvec3 toSun_;
     glm::vec3 sunIrradiance_;
     Sky sky_;

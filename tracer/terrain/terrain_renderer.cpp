@@ -18,7 +18,7 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
                    RenderStats* stats) {
     const auto start = std::chrono::steady_clock::now();
     Film film(s.width, s.height);
-    const TerrainShader shader(grid, surface, s.sun, s.sky, s.camera.eyeM.z, s.seed);
+    const TerrainShader shader(grid, surface, s.sun, s.sky, s.camera.eyeM.z, s.seed, s.smoothNormals);
 
     std::atomic<int64_t> primary{0}, shadow{0}, sky{0}, hits{0}, pixelsDone{0};
     std::mutex progressMutex;

@@ -95,6 +95,67 @@ TEST_CASE("Flat terrain is lit by Lambert's cosine law plus ambient", "[tracer]"
                 CHECK(b.get(x, y)[c] - a.get(x, y)[c] == Approx(albedo[c] * sunColour[c] * dSin).epsilon(1e-4));
 }
 
+TEST_CASE("A dome shaded with smooth normals follows Lambert's law with its exact normals, where facets do not",
+          "[tracer][normals]") {
+    // A paraboloid dome z = 200 - 0.004 ((x - 200)^2 + (y - 200)^2) on 10 m cells, seen from high above, lit by
+    // the sun alone (no sky): a pixel is albedo x sun x cos, with the cosine of the dome's own normal. The
+    // expected value of each pixel is worked out from the analytic normal at the point its camera ray hits.
+    const int n = 41;
+    std::vector<float> heights(size_t(n) * n);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const double x = 10.0 * i - 200.0, y = 10.0 * j - 200.0;
+            heights[size_t(j) * n + size_t(i)] = float(200.0 - 0.004 * (x * x + y * y));
+        }
+    const HeightGrid g(n, n, 10.0, 10.0, heights, {}, StoragePolicy::Float32);
+    const TerrainSurface surface(g, SurfaceMethod::Bilinear);
+    TerrainRenderSettings s;
+    s.width = s.height = 48;
+    s.threads = 1;
+    s.camera.eyeM = {200, 200, 5000};
+    s.camera.lookAtM = {200, 200, 0};
+    s.camera.up = {0, 1, 0};
+    s.camera.fovYDeg = 3.0;
+    s.sky.kind = SkyKind::None;
+    s.sun = Sun{250.0, 40.0};
+    const glm::vec3 sunColour{1.0f, 0.96f, 0.90f};
+    double error[2] = {0.0, 0.0};
+    RenderStats stats[2];
+    Film films[2] = {Film(1, 1), Film(1, 1)};
+    for (const bool smooth : {true, false}) {
+        s.smoothNormals = smooth;
+        films[smooth] = renderTerrain(g, surface, s, &stats[smooth]);
+    }
+    int lit = 0;
+    for (int y = 0; y < s.height; ++y)
+        for (int x = 0; x < s.width; ++x) {
+            const Ray ray = s.camera.generate((x + 0.5) / s.width, (y + 0.5) / s.height, 1.0);
+            const auto hit = surface.intersect(ray, {0.0, kInfinity});
+            if (!hit) continue;
+            const glm::dvec3 p = hit->pointM;
+            const glm::dvec3 exact = glm::normalize(glm::dvec3(0.008 * (p.x - 200.0), 0.008 * (p.y - 200.0), 1.0));
+            const double cosine = glm::dot(exact, s.sun.direction());
+            // Past the terminator a light reaches no point whose cell faces away from it: smooth shading changes
+            // no shadow, so those pixels are dark either way.
+            if (cosine <= 0.0 || glm::dot(hit->normal, s.sun.direction()) <= 0.0) continue;
+            const glm::vec3 albedo = elevationAlbedo(p.z, g.minHeightM(), g.maxHeightM());
+            ++lit;
+            for (const bool smooth : {true, false}) {
+                const double expected = double(albedo.g * sunColour.g) * cosine;
+                error[smooth] = std::max(error[smooth], std::abs(double(films[smooth].get(x, y).g) - expected));
+            }
+        }
+    INFO("largest error in green: smooth " << error[1] << ", facets " << error[0] << ", over " << lit << " pixels");
+    REQUIRE(lit > 1000);
+    // Inside the dome the smooth normal is exact (the border vertices' one-sided differences are not).
+    CHECK(error[1] < 0.02 * error[0]);
+    CHECK(error[0] > 0.005);
+    // Only shading changes: the same rays of each kind, the same hits.
+    CHECK(stats[1].primaryRays == stats[0].primaryRays);
+    CHECK(stats[1].shadowRays == stats[0].shadowRays);
+    CHECK(stats[1].hits == stats[0].hits);
+}
+
 TEST_CASE("Occlusion towards the sun: a wall's shadow ends where its height over tan(elevation) says", "[tracer]") {
     // A wall 100 m high along x = 50 m on otherwise flat ground (10 m cells; bilinear, so its flanks slope to
     // the ground at x = 40 and 60 m). With the sun in the west at 45 degrees a probe 1 m above the ground at x
