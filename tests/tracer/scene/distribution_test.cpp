@@ -4,6 +4,7 @@
 // reflections, how fast soft-shadow noise falls with the sample count, pixel filters across an edge, and the
 // sample counts of adaptive sampling.
 #include "support/convergence.h"
+#include "support/scene_builders.h"
 #include "tracer/scene/scene_renderer.h"
 
 #include <catch2/catch.hpp>
@@ -14,6 +15,7 @@
 #include <vector>
 
 using namespace terracast;
+using namespace terracast::testing;
 
 namespace {
 
@@ -23,15 +25,6 @@ MaterialDescription matte(const std::string& name, float kd) {
     m.colour = glm::vec3(1.0f);
     m.kd = kd;
     return m;
-}
-
-ObjectDescription sphereAt(glm::dvec3 c, double r, const std::string& material) {
-    ObjectDescription o;
-    o.kind = ObjectKind::Sphere;
-    o.centre = c;
-    o.radiusM = r;
-    o.material = material;
-    return o;
 }
 
 // A one-pixel-high orthographic strip looking straight down on the line y = 0, x in [x0, x1].
@@ -59,6 +52,19 @@ Film render(const SceneDescription& d, int width, int height, int spp, SamplePat
 // Angular radius of a sphere of radius r seen from distance d.
 double angularRadius(double r, double d) { return std::asin(std::min(1.0, r / d)); }
 
+// A black half-plane (x < edge) under a white sky, seen from above by a strip camera `width` pixels wide and
+// `height` high with 1 m pixels.
+SceneDescription blackHalfPlane(double edge, int width, int height) {
+    SceneDescription d;
+    d.materials.push_back(matte("black", 0.0f));
+    d.objects.push_back(box({-100.0, -5000.0, -1.0}, {edge, 5000.0, 0.0}, "black"));
+    d.sky.kind = SkyKind::Flat;
+    d.sky.colour = glm::vec3(1.0f);
+    d.camera = stripCamera(0.0, double(width), 10.0);
+    d.camera.orthoHeightM = double(height);
+    return d;
+}
+
 }  // namespace
 
 TEST_CASE("The penumbra behind a sphere under a spherical light spans the predicted interval", "[distribution]") {
@@ -83,7 +89,7 @@ TEST_CASE("The penumbra behind a sphere under a spherical light spans the predic
     d.camera = stripCamera(x0, x1, 0.5);
     d.camera.orthoHeightM = (x1 - x0) / width;  // square pixels
     const Film lit = render(d, width, 1, 256, SamplePattern::Stratified);
-    d.objects.push_back(sphereAt({0, 0, occH}, occR, "floor"));
+    d.objects.push_back(sphere({0, 0, occH}, occR, "floor"));
     const Film shadowed = render(d, width, 1, 256, SamplePattern::Stratified);
 
     // Seen from a floor point, the light and the occluder are discs on the sky of angular radii aL and aO whose
@@ -135,7 +141,7 @@ TEST_CASE("A sphere moving across the shutter covers each pixel on its path for 
     // the path is covered while |x - (-5 + 10 t)| <= 1: for a fifth of the shutter when |x| <= 4.
     SceneDescription d;
     d.materials.push_back(matte("black", 0.0f));
-    d.objects.push_back(sphereAt({-5, 0, 0}, 1.0, "black"));
+    d.objects.push_back(sphere({-5, 0, 0}, 1.0, "black"));
     d.objects.back().velocity = {10, 0, 0};
     d.sky.kind = SkyKind::Flat;
     d.sky.colour = glm::vec3(1.0f);
@@ -167,7 +173,7 @@ TEST_CASE("A thin lens blurs a point off the focus plane over the predicted circ
     auto darkWidth = [&](double z, double r) {
         SceneDescription d;
         d.materials.push_back(matte("black", 0.0f));
-        d.objects.push_back(sphereAt({0, z, 0}, r, "black"));
+        d.objects.push_back(sphere({0, z, 0}, r, "black"));
         d.sky.kind = SkyKind::Flat;
         d.sky.colour = glm::vec3(1.0f);
         d.camera.kind = CameraKind::ThinLens;
@@ -246,7 +252,7 @@ TEST_CASE("Soft-shadow noise falls as 1/sqrt(spp) with random samples and faster
     floor.kind = ObjectKind::Plane;
     floor.material = "floor";
     d.objects.push_back(floor);
-    d.objects.push_back(sphereAt({0, 0, 5}, 1.0, "floor"));
+    d.objects.push_back(sphere({0, 0, 5}, 1.0, "floor"));
     d.sky.kind = SkyKind::None;
     LightDescription light;
     light.kind = LightKind::Sphere;
@@ -400,7 +406,7 @@ TEST_CASE("A moving camera smears a static sphere over the span it travels", "[d
     const double v = 4.0, r = 1.0;
     SceneDescription d;
     d.materials.push_back(matte("black", 0.0f));
-    d.objects.push_back(sphereAt({0, 0, 0}, r, "black"));
+    d.objects.push_back(sphere({0, 0, 0}, r, "black"));
     d.sky.kind = SkyKind::Flat;
     d.sky.colour = glm::vec3(1.0f);
     d.camera = stripCamera(-8.0, 8.0, 10.0);
@@ -434,19 +440,8 @@ TEST_CASE("Tent and Gaussian filters spread a straight edge over the pixels thei
     // is at c averages its samples weighted by the filter, so it shows the share of the filter's 1D profile
     // that lies beyond the edge: the integral of f1 from (10.1 - c) to the radius.
     const double edge = 10.1, tolerance = 0.004;
-    SceneDescription d;
-    d.materials.push_back(matte("black", 0.0f));
-    ObjectDescription half;
-    half.kind = ObjectKind::Box;
-    half.boxMin = {-100.0, -100.0, -1.0};
-    half.boxMax = {edge, 100.0, 0.0};
-    half.material = "black";
-    d.objects.push_back(half);
-    d.sky.kind = SkyKind::Flat;
-    d.sky.colour = glm::vec3(1.0f);
     const int width = 24;
-    d.camera = stripCamera(0.0, double(width), 10.0);
-    d.camera.orthoHeightM = 1.0;
+    const SceneDescription d = blackHalfPlane(edge, width, 1);
     Scene scene(d, {});
     const SceneCamera camera = makeSceneCamera(scene, d.camera, double(width));
 
@@ -518,19 +513,8 @@ TEST_CASE("Across an edge, tent and Gaussian pixels are no noisier than the box'
     // pixels is an independent estimate from 16 random samples; their spread is the filter's noise. A filter
     // whose samples are drawn in proportion to it averages values of 0 and 1 as the box does; weighting uniform
     // samples by the filter instead gives about twice the box's noise.
-    SceneDescription d;
-    d.materials.push_back(matte("black", 0.0f));
-    ObjectDescription half;
-    half.kind = ObjectKind::Box;
-    half.boxMin = {-100.0, -5000.0, -1.0};
-    half.boxMax = {10.5, 5000.0, 0.0};
-    half.material = "black";
-    d.objects.push_back(half);
-    d.sky.kind = SkyKind::Flat;
-    d.sky.colour = glm::vec3(1.0f);
     const int width = 21, height = 3000;
-    d.camera = stripCamera(0.0, double(width), 10.0);
-    d.camera.orthoHeightM = double(height);
+    const SceneDescription d = blackHalfPlane(10.5, width, height);
     Scene scene(d, {});
     const SceneCamera camera = makeSceneCamera(scene, d.camera, double(width) / height);
     double boxNoise = 0.0;
