@@ -41,6 +41,9 @@ struct SurfaceHit {
                                  // field's smooth normal); zero where shading uses `normal`
     double errorM = 0.0;         // bound on the position's rounding error: spawned rays start this far off
     int object = -1;             // index of the object hit, set by the scene
+
+    // The normal shading reads, on the outer side: `shading` where set, else `normal`.
+    glm::dvec3 shadingNormal() const { return shading == glm::dvec3(0.0) ? normal : shading; }
 };
 
 // The origin of a ray leaving `hit` in direction `dir`: pushed off the surface, to the side `dir` goes.

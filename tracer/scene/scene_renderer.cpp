@@ -154,18 +154,19 @@ private:
         const glm::dvec3 n = entering ? hit.normal : -hit.normal;  // facing the ray
         // What diffuse and Phong shading read: a height field's smooth normal, or the surface's own. Reflection,
         // refraction and which lights can reach the point stay with the geometric normal.
-        const glm::dvec3 shading = hit.shading == glm::dvec3(0.0) ? n : entering ? hit.shading : -hit.shading;
+        const glm::dvec3 shading = entering ? hit.shadingNormal() : -hit.shadingNormal();
         glm::vec3 radiance{0.0f};
 
         if (m.kd > 0.0f || m.ks > 0.0f) {
             const glm::vec3 albedo = surfaceColour(obj, m, hit);
             if (m.kd > 0.0f) radiance += skyLight(hit, shading, depth, weight, ray.time, albedo * m.kd, record);
+            // Under water the sun's light arrives along its direction refracted by the surface.
+            const SceneObject* waterAbove = scene_.waterAbove(hit.point);
             for (size_t li = 0; li < scene_.lights().size(); ++li) {
                 const SceneLight& light = scene_.lights()[li];
                 LightSample ls = sampleLight(light, hit.point, samples_.light(depth, int(li)));
                 if (light.kind == LightKind::Sun) ls.irradiance = sky_.sunlight(ls.irradiance, ls.dir, hit.point.z);
-                // Under water the sun's light arrives along its direction refracted by the surface.
-                const SceneObject* water = light.kind == LightKind::Sun ? scene_.waterAbove(hit.point) : nullptr;
+                const SceneObject* water = light.kind == LightKind::Sun ? waterAbove : nullptr;
                 glm::dvec3 toLight = ls.dir;
                 if (water) {
                     const auto bent = underwaterSunDirection(ls.dir, waterIndex(*water));
@@ -336,7 +337,7 @@ private:
         if (obj.kind != ObjectKind::HeightField) return m.colour;
         const auto* hf = static_cast<const HeightFieldPrimitive*>(obj.primitive.get());
         switch (m.terrain) {
-        case TerrainColouring::Slope: return slopeAlbedo(hit.shading == glm::dvec3(0.0) ? hit.normal.z : hit.shading.z);
+        case TerrainColouring::Slope: return slopeAlbedo(hit.shadingNormal().z);
         case TerrainColouring::Drape: {
             const auto& drape = scene_.drapes()[size_t(obj.material)];
             if (drape) return drape->sample(hit.uv.x, hit.uv.y);

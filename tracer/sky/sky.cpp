@@ -79,8 +79,8 @@ glm::vec3 Sky::sunlight(const glm::vec3& irradiance, const glm::dvec3& toSun, do
 glm::vec3 Sky::throughAir(const glm::vec3& surface, const glm::dvec3& dir, double distanceM) const {
     if (!aerialPerspective()) return surface;
     glm::vec3 t, in;
-    tables_->aerial(dir, distanceM, t, in);
-    return t * surface + skyScale_ * in;
+    air(dir, distanceM, t, in);
+    return t * surface + in;
 }
 
 void Sky::air(const glm::dvec3& dir, double distanceM, glm::vec3& transmittance, glm::vec3& inscattered) const {
