@@ -32,7 +32,8 @@ const std::vector<Rule>& rules() {
             a.insert(a.end(), b.begin(), b.end());
             return a;
         };
-        const std::vector<std::string> base{"heightfield/", "tracer/core/", "tracer/sampling/", "tracer/sky/"};
+        const std::vector<std::string> base{"heightfield/", "tracer/core/", "tracer/sampling/", "tracer/camera/",
+                                            "tracer/sky/"};
         return std::vector<Rule>{
             {"tracer/scene/scene_description.h", with(base, description)},
             {"tracer/scene/scene_assets.h", with(base, description)},
@@ -40,6 +41,7 @@ const std::vector<Rule>& rules() {
             {"heightfield/", {"heightfield/"}, true},
             {"tracer/core/", {"tracer/core/", "heightfield/"}},
             {"tracer/sampling/", {"tracer/sampling/"}, true},
+            {"tracer/camera/", {"tracer/camera/", "heightfield/", "tracer/core/", "tracer/sampling/"}},
             {"tracer/sky/", {"tracer/sky/", "tracer/sampling/", "tracer/core/"}},
             {"loaders/", with(with(base, description), {"loaders/"})},
             {"tracer/terrain/", with(base, {"tracer/terrain/", "loaders/"})},

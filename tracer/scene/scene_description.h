@@ -2,6 +2,7 @@
 // parser fills it; loaders attach the height grids it names; the scene renderer turns it into traceable objects.
 #pragma once
 
+#include "tracer/camera/camera.h"
 #include "tracer/core/source_location.h"
 #include "tracer/core/surface_method.h"
 #include "tracer/sampling/filters.h"
@@ -17,24 +18,6 @@
 #include <vector>
 
 namespace terracast {
-
-enum class CameraKind { Pinhole, Orthographic, ThinLens, Panorama, Fisheye };
-
-struct CameraDescription {
-    CameraKind kind = CameraKind::Pinhole;
-    // Eye and target in scene metres; unset means automatic framing of the terrain (or of all objects).
-    std::optional<glm::dvec3> eye;
-    std::optional<glm::dvec3> lookAt;
-    glm::dvec3 up{0, 0, 1};
-    double fovDeg = 40.0;              // pinhole and thin lens: vertical field of view; fisheye: full field
-    double orthoHeightM = 0.0;         // orthographic: metres the picture spans vertically; 0 = fit the scene
-    double apertureRadiusM = 0.0;      // thin lens: lens radius
-    double focusDistanceM = 0.0;       // thin lens: distance to the plane in focus; 0 = distance to lookAt
-    double shutterOpen = 0.0;          // motion blur: shutter interval in scene seconds
-    double shutterClose = 0.0;
-    glm::dvec3 velocity{0.0};          // motion blur: camera velocity, metres per second
-    SourceLocation where;
-};
 
 enum class FresnelModel { Schlick, Exact };
 enum class TerrainColouring { Elevation, Slope, Drape, Plain };

@@ -8,7 +8,7 @@
 #include "tracer/core/resources.h"
 #include "tracer/core/text.h"
 #include "tracer/scene/scene.h"
-#include "tracer/scene/scene_camera.h"
+#include "tracer/camera/camera.h"
 #include "tracer/terrain/memory_model.h"
 
 #include <fmt/format.h>
@@ -125,7 +125,7 @@ void renderSceneFile(const SceneRunOptions& o, const RunListener& listener) {
 
     const Scene scene(d, loaded.assets);
     const double aspect = double(r.width) / double(r.height);
-    SceneCamera camera = makeSceneCamera(scene, d.camera, aspect);
+    ViewCamera camera = makeSceneCamera(scene, d.camera, aspect);
     if (o.focusPixel) {
         const auto focus = focusDistanceAt(scene, camera, o.focusX, o.focusY, r.width, r.height);
         if (!focus)

@@ -437,7 +437,7 @@ private:
 
 // One camera sample: its film position (drawn in proportion to the pixel filter, so that every sample weighs
 // the same: PixelFilter::offsetOf), lens point and time from the sampler, traced.
-glm::vec3 cameraSample(const Scene& scene, const Sky& sky, const SceneCamera& camera, const SceneRenderSettings& s,
+glm::vec3 cameraSample(const Scene& scene, const Sky& sky, const ViewCamera& camera, const SceneRenderSettings& s,
                           const PixelSampler* sampler, int x, int y, int k, Counters& counters,
                           std::vector<RayRecord>* tree) {
     glm::dvec2 offset{0.0}, lens{0.5};
@@ -456,7 +456,7 @@ glm::vec3 cameraSample(const Scene& scene, const Sky& sky, const SceneCamera& ca
     return tracer.trace(*ray, RayKind::Primary, 0, glm::vec3(1.0f), glm::vec3(0.0f), true, glm::vec3(1.0f));
 }
 
-glm::vec3 pixelValue(const Scene& scene, const Sky& sky, const SceneCamera& camera, const SceneRenderSettings& s,
+glm::vec3 pixelValue(const Scene& scene, const Sky& sky, const ViewCamera& camera, const SceneRenderSettings& s,
                      const PixelSampler* sampler, int x, int y, Counters& counters, std::vector<RayRecord>* tree) {
     PixelAccumulator acc;
     RunningStats stats;
@@ -503,7 +503,7 @@ Sky makeSceneSky(const Scene& scene, double viewerAltitudeM) {
     return Sky(scene.sky(), sun, viewerAltitudeM);
 }
 
-SceneCamera makeSceneCamera(const Scene& scene, const CameraDescription& d, double aspect) {
+ViewCamera makeSceneCamera(const Scene& scene, const CameraDescription& d, double aspect) {
     glm::dvec3 eye, look;
     if (d.eye && d.lookAt) {
         eye = *d.eye;
@@ -536,10 +536,10 @@ SceneCamera makeSceneCamera(const Scene& scene, const CameraDescription& d, doub
         const Bounds3 box = scene.bounds();
         desc.orthoHeightM = box.finite() ? glm::length(box.hi - box.lo) : 2.0;
     }
-    return SceneCamera(desc, eye, look, aspect);
+    return ViewCamera(desc, eye, look, aspect);
 }
 
-std::optional<double> focusDistanceAt(const Scene& scene, const SceneCamera& camera, int x, int y, int width,
+std::optional<double> focusDistanceAt(const Scene& scene, const ViewCamera& camera, int x, int y, int width,
                                       int height) {
     // The lens centre sees what a pinhole would.
     const auto ray = camera.generate((x + 0.5) / width, (y + 0.5) / height, {0.5, 0.5}, 0.0);
@@ -548,7 +548,7 @@ std::optional<double> focusDistanceAt(const Scene& scene, const SceneCamera& cam
     return glm::dot(hit.point - camera.eye(), camera.forward());
 }
 
-glm::vec3 tracePixel(const Scene& scene, const SceneCamera& camera, const SceneRenderSettings& s, int x, int y,
+glm::vec3 tracePixel(const Scene& scene, const ViewCamera& camera, const SceneRenderSettings& s, int x, int y,
                      std::vector<RayRecord>* tree, SceneRayStats* stats) {
     Counters counters;
     const auto sampler = makeSampler(s);
@@ -558,7 +558,7 @@ glm::vec3 tracePixel(const Scene& scene, const SceneCamera& camera, const SceneR
     return value;
 }
 
-Film renderScene(const Scene& scene, const SceneCamera& camera, const SceneRenderSettings& s, SceneRayStats* stats) {
+Film renderScene(const Scene& scene, const ViewCamera& camera, const SceneRenderSettings& s, SceneRayStats* stats) {
     const auto start = std::chrono::steady_clock::now();
     Film film(s.width, s.height);
     std::mutex mutex;

@@ -7,7 +7,7 @@
 #include "tracer/sampling/filters.h"
 #include "tracer/sampling/samplers.h"
 #include "tracer/scene/scene.h"
-#include "tracer/scene/scene_camera.h"
+#include "tracer/camera/camera.h"
 #include "tracer/sky/sky.h"
 
 #include <cstdint>
@@ -79,19 +79,19 @@ struct RayRecord {
 };
 
 // The camera the description asks for, framing the scene automatically where eye or look_at are unset.
-SceneCamera makeSceneCamera(const Scene& scene, const CameraDescription& camera, double aspect);
+ViewCamera makeSceneCamera(const Scene& scene, const CameraDescription& camera, double aspect);
 
 // The distance along the view axis from the camera to what the centre of pixel (x, y) of a width x height
 // picture sees (for focusing a thin lens on it); none when that ray reaches the sky.
-std::optional<double> focusDistanceAt(const Scene& scene, const SceneCamera& camera, int x, int y, int width,
+std::optional<double> focusDistanceAt(const Scene& scene, const ViewCamera& camera, int x, int y, int width,
                                       int height);
 
 // Renders the scene into a linear RGB film (radiance times exposure).
-Film renderScene(const Scene& scene, const SceneCamera& camera, const SceneRenderSettings& settings,
+Film renderScene(const Scene& scene, const ViewCamera& camera, const SceneRenderSettings& settings,
                  SceneRayStats* stats = nullptr);
 
 // Traces one pixel's samples and records every ray; returns the pixel's value.
-glm::vec3 tracePixel(const Scene& scene, const SceneCamera& camera, const SceneRenderSettings& settings, int x, int y,
+glm::vec3 tracePixel(const Scene& scene, const ViewCamera& camera, const SceneRenderSettings& settings, int x, int y,
                      std::vector<RayRecord>* tree, SceneRayStats* stats = nullptr);
 
 // The sky of a render: the scene's sky model lit by its first sun, seen from `viewerAltitudeM` (the camera's).

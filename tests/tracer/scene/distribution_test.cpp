@@ -220,7 +220,7 @@ TEST_CASE("Glossy reflections spread around the mirror direction by the Phong lo
     d.camera.lookAt = glm::dvec3(0, 5, 0);
     d.render.width = d.render.height = 1;
     Scene scene(d, {});
-    const SceneCamera cam = makeSceneCamera(scene, d.camera, 1.0);
+    const ViewCamera cam = makeSceneCamera(scene, d.camera, 1.0);
     SceneRenderSettings s;
     s.width = s.height = 1;
     s.samples = 4096;
@@ -443,7 +443,7 @@ TEST_CASE("Tent and Gaussian filters spread a straight edge over the pixels thei
     const int width = 24;
     const SceneDescription d = blackHalfPlane(edge, width, 1);
     Scene scene(d, {});
-    const SceneCamera camera = makeSceneCamera(scene, d.camera, double(width));
+    const ViewCamera camera = makeSceneCamera(scene, d.camera, double(width));
 
     // Each filter's profile, written out on its own: box 1 / (2 r); tent (r - |x|) / r^2; Gaussian
     // exp(-alpha x^2) - exp(-alpha r^2), normalised by Simpson's rule.
@@ -516,7 +516,7 @@ TEST_CASE("Across an edge, tent and Gaussian pixels are no noisier than the box'
     const int width = 21, height = 3000;
     const SceneDescription d = blackHalfPlane(10.5, width, height);
     Scene scene(d, {});
-    const SceneCamera camera = makeSceneCamera(scene, d.camera, double(width) / height);
+    const ViewCamera camera = makeSceneCamera(scene, d.camera, double(width) / height);
     double boxNoise = 0.0;
     for (const FilterKind kind : {FilterKind::Box, FilterKind::Tent, FilterKind::Gaussian}) {
         SceneRenderSettings s;
@@ -565,7 +565,7 @@ TEST_CASE("Adaptive sampling stops flat pixels at the minimum and spends the max
     d.camera.up = {0, 1, 0};
     d.camera.orthoHeightM = 8.0;
     Scene scene(d, {});
-    const SceneCamera camera = makeSceneCamera(scene, d.camera, 2.0);
+    const ViewCamera camera = makeSceneCamera(scene, d.camera, 2.0);
     SceneRenderSettings s;
     s.width = 16;
     s.height = 8;

@@ -32,7 +32,7 @@ SceneDescription furnace(const std::string& material) {
 // The largest channel of any pixel of the scene's picture.
 float brightest(const SceneDescription& d) {
     const Scene scene(d, {});
-    const SceneCamera camera = makeSceneCamera(scene, d.camera, 1.0);
+    const ViewCamera camera = makeSceneCamera(scene, d.camera, 1.0);
     const Film film = renderScene(scene, camera, settingsFor(d), nullptr);
     return *std::max_element(film.rgb.begin(), film.rgb.end());
 }

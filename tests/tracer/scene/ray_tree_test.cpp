@@ -33,7 +33,7 @@ TEST_CASE("The debug ray tree's shares add up to each ray's radiance and to the 
             s.width = 96;
             s.height = 54;
             s.samples = 1;
-            const SceneCamera camera = makeSceneCamera(scene, d.camera, double(s.width) / double(s.height));
+            const ViewCamera camera = makeSceneCamera(scene, d.camera, double(s.width) / double(s.height));
             int reflected = 0, hazed = 0, checked = 0;
             for (int y = 0; y < s.height; y += 10)
                 for (int x = 0; x < s.width; x += 10) {

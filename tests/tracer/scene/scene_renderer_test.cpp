@@ -27,7 +27,7 @@ TEST_CASE("Camera rays meet a sphere exactly inside its analytic silhouette, at 
     d.objects.push_back(sphere({0, distance, 0}, radius));
     d.camera = lookingAt({0, 0, 0}, {0, 1, 0}, 40.0);
     Scene scene(d, {});
-    const SceneCamera cam = makeSceneCamera(scene, d.camera, 1.0);
+    const ViewCamera cam = makeSceneCamera(scene, d.camera, 1.0);
     const double sinEdge = radius / distance;
     int hits = 0, checked = 0;
     for (int y = 0; y < 200; ++y) {
@@ -110,7 +110,7 @@ TEST_CASE("Total internal reflection begins at the critical angle of 41.8 degree
         d.camera = lookingAt({0, 0, -0.5}, glm::dvec3(0, 0, -0.5) + glm::dvec3(std::sin(a), 0, std::cos(a)));
         d.render.width = d.render.height = 1;
         Scene scene(d, {});
-        const SceneCamera cam = makeSceneCamera(scene, d.camera, 1.0);
+        const ViewCamera cam = makeSceneCamera(scene, d.camera, 1.0);
         std::vector<RayRecord> tree;
         tracePixel(scene, cam, settingsFor(d), 0, 0, &tree);
         CHECK(countKind(tree, RayKind::Refraction) == (deg < 41.81 ? 1 : 0));
@@ -141,7 +141,7 @@ TEST_CASE("Light through an absorbing slab keeps exp(-sigma s) of its radiance",
         d.camera.up = {0, 1, 0};
         d.render.width = d.render.height = 1;
         Scene scene(d, {});
-        const SceneCamera cam = makeSceneCamera(scene, d.camera, 1.0);
+        const ViewCamera cam = makeSceneCamera(scene, d.camera, 1.0);
         const glm::vec3 v = tracePixel(scene, cam, settingsFor(d), 0, 0, nullptr);
         const double path = thickness / std::cos(a);
         for (int c = 0; c < 3; ++c) CHECK(v[c] == Approx(std::exp(-sigma[c] * path)).epsilon(1e-5));
@@ -163,7 +163,7 @@ TEST_CASE("A mirror shows a point at the pixel where its mirror image projects",
     d.camera = lookingAt({0, 0, 5}, {0, 20, 0}, 40.0);
     d.render.width = d.render.height = 401;
     Scene scene(d, {});
-    const SceneCamera cam = makeSceneCamera(scene, d.camera, 1.0);
+    const ViewCamera cam = makeSceneCamera(scene, d.camera, 1.0);
     // Project the mirror image (3, 20, -2) into the film.
     const glm::dvec3 image{p.x, p.y, -p.z};
     const glm::dvec3 f = cam.forward(), r = glm::normalize(glm::cross(f, glm::dvec3(0, 0, 1))), u = glm::cross(r, f);
@@ -300,14 +300,14 @@ TEST_CASE("Panorama and fisheye cameras map the picture to the expected directio
     d.camera = lookingAt({0, 0, 0}, {0, 1, 0});
     d.camera.kind = CameraKind::Panorama;
     Scene scene(d, {});
-    const SceneCamera pano = makeSceneCamera(scene, d.camera, 2.0);
+    const ViewCamera pano = makeSceneCamera(scene, d.camera, 2.0);
     CHECK(glm::length(pano.generate(0.5, 0.5)->dir - glm::dvec3(0, 1, 0)) < 1e-12);   // centre: ahead
     CHECK(glm::length(pano.generate(0.75, 0.5)->dir - glm::dvec3(1, 0, 0)) < 1e-12);  // right: east
     CHECK(glm::length(pano.generate(0.5, 0.0)->dir - glm::dvec3(0, 0, 1)) < 1e-12);   // top: zenith
     CHECK(glm::length(pano.generate(0.0, 0.5)->dir - glm::dvec3(0, -1, 0)) < 1e-12);  // left edge: behind
     d.camera.kind = CameraKind::Fisheye;
     d.camera.fovDeg = 180.0;
-    const SceneCamera fish = makeSceneCamera(scene, d.camera, 1.0);
+    const ViewCamera fish = makeSceneCamera(scene, d.camera, 1.0);
     CHECK(glm::length(fish.generate(0.5, 0.5)->dir - glm::dvec3(0, 1, 0)) < 1e-12);
     CHECK(glm::length(fish.generate(1.0, 0.5)->dir - glm::dvec3(1, 0, 0)) < 1e-12);  // the rim is 90 degrees off
     CHECK_FALSE(fish.generate(0.99, 0.99).has_value());                              // outside the circle
@@ -320,7 +320,7 @@ TEST_CASE("A thin lens keeps the focus plane sharp and blurs nearer points over 
     c.focusDistanceM = 10.0;
     SceneDescription d;
     Scene scene(d, {});
-    const SceneCamera cam = makeSceneCamera(scene, c, 1.0);
+    const ViewCamera cam = makeSceneCamera(scene, c, 1.0);
     // Rays through one film point from different lens positions meet at the focus plane...
     const Ray a = *cam.generate(0.6, 0.4, {0.1, 0.2}), b = *cam.generate(0.6, 0.4, {0.9, 0.7});
     const glm::dvec3 pa = a.at((10.0 - a.origin.y) / a.dir.y), pb = b.at((10.0 - b.origin.y) / b.dir.y);
@@ -391,7 +391,7 @@ TEST_CASE("Shadow rays through glass use the material's Fresnel model", "[scene]
                                    : (1.0 - fresnelReference(cosI, 1.0, 1.5)) * (1.0 - fresnelReference(cosI, 1.5, 1.0));
         REQUIRE(std::abs(through - other) > 0.005);  // the two models are told apart below
         Scene scene(d, {});
-        const SceneCamera cam = makeSceneCamera(scene, d.camera, 1.0);
+        const ViewCamera cam = makeSceneCamera(scene, d.camera, 1.0);
         std::vector<RayRecord> tree;
         const glm::vec3 v = tracePixel(scene, cam, settingsFor(d), 0, 0, &tree);
         for (int c = 0; c < 3; ++c) CHECK(v[c] == Approx(through * cosI).epsilon(1e-5));
@@ -422,7 +422,7 @@ TEST_CASE("A dispersive dielectric refracts each colour channel by its own index
     const glm::dvec3 eye{0, 0, 1};
     d.camera = lookingAt(eye, eye + glm::dvec3(std::sin(theta), 0.0, -std::cos(theta)), 1.0);
     Scene scene(d, {});
-    const SceneCamera cam = makeSceneCamera(scene, d.camera, 1.0);
+    const ViewCamera cam = makeSceneCamera(scene, d.camera, 1.0);
     std::vector<RayRecord> tree;
     tracePixel(scene, cam, settingsFor(d), 0, 0, &tree);
     REQUIRE(countKind(tree, RayKind::Refraction) == 3);

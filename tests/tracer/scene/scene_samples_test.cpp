@@ -32,7 +32,7 @@ Rendered renderSample(const std::string& name, int width, int height) {
     s.height = height;
     s.samples = std::min(d.render.samples, 16);
     s.threads = 2;
-    const SceneCamera camera = makeSceneCamera(scene, d.camera, double(width) / double(height));
+    const ViewCamera camera = makeSceneCamera(scene, d.camera, double(width) / double(height));
     Rendered r;
     r.film = renderScene(scene, camera, s, &r.stats);
     r.bvh = scene.usesBvh();

@@ -1,17 +1,13 @@
-#include "tracer/scene/scene_camera.h"
+#include "tracer/camera/camera.h"
 
 #include "tracer/core/angles.h"
-
 #include "tracer/sampling/warps.h"
 
 #include <cmath>
 
 namespace terracast {
 
-namespace {
-}  // namespace
-
-SceneCamera::SceneCamera(const CameraDescription& description, const glm::dvec3& eye, const glm::dvec3& lookAt,
+ViewCamera::ViewCamera(const CameraDescription& description, const glm::dvec3& eye, const glm::dvec3& lookAt,
                          double aspect)
     : d_(description), eye_(eye), aspect_(aspect) {
     forward_ = glm::normalize(lookAt - eye);
@@ -21,7 +17,7 @@ SceneCamera::SceneCamera(const CameraDescription& description, const glm::dvec3&
     focus_ = d_.focusDistanceM > 0.0 ? d_.focusDistanceM : glm::length(lookAt - eye);
 }
 
-std::optional<Ray> SceneCamera::generate(double fx, double fy, glm::dvec2 lens, double time) const {
+std::optional<Ray> ViewCamera::generate(double fx, double fy, glm::dvec2 lens, double time) const {
     const double sx = 2.0 * fx - 1.0;  // -1 left .. 1 right
     const double sy = 1.0 - 2.0 * fy;  // -1 bottom .. 1 top
     const double shutter = d_.shutterOpen + time * (d_.shutterClose - d_.shutterOpen);
