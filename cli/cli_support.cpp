@@ -176,10 +176,10 @@ SurfaceMethod parseMethodOption(const std::string& text, const char* option) {
     return parseNamedOption(text, option, parseSurfaceMethod, surfaceMethodList());
 }
 
-std::optional<PinholeCamera> parseCameraOption(const std::string& text) {
+std::optional<PinholeCamera> parseCameraOption(const std::string& text, bool fisheye) {
     if (text.empty()) return std::nullopt;
     PinholeCamera camera;
-    if (auto err = parseCamera(text, camera)) throw InputError("--camera: " + *err);
+    if (auto err = parseCamera(text, camera, fisheye)) throw InputError("--camera: " + *err);
     return camera;
 }
 

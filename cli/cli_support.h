@@ -71,7 +71,7 @@ E parseNamedOption(const std::string& text, const char* option, std::optional<E>
     if (const auto value = parse(text)) return *value;
     throw InputError(option + std::string(": expected one of ") + list + ", found '" + text + "'");
 }
-std::optional<PinholeCamera> parseCameraOption(const std::string& text);  // empty text: none
+std::optional<PinholeCamera> parseCameraOption(const std::string& text, bool fisheye = false);  // empty text: none
 UtcInstant parseSunTimeOption(const std::string& text);
 // X,Y pixel indices.
 void parsePixelOption(const std::string& text, const char* option, int& x, int& y);

@@ -26,8 +26,9 @@ void addRenderCommand(CLI::App& app, Commands& commands) {
     struct Texts {
         DemRenderOptions options;
         std::string size = "1280x720", sun = "315,35", method = "bilinear", view = "perspective", colour = "grey";
-        std::string sky = "physical", sunTime, camera, normals = "smooth";
+        std::string sky = "physical", sunTime, camera, normals = "smooth", sampler, filter;
         bool noShadows = false, quiet = false;
+        CLI::Option* adaptive = nullptr;
     };
     auto t = std::make_shared<Texts>();
     DemRenderOptions& render = t->options;
@@ -48,7 +49,18 @@ void addRenderCommand(CLI::App& app, Commands& commands) {
         ->check(nonNegativeInteger());
     cmd->add_flag("-q,--quiet", t->quiet, "No progress or summary on stderr");
     cmd->add_option("--view", t->view,
-                    "perspective (default), or map: top-down on the DEM's grid, written as GeoTIFF (.tif) or PNG");
+                    "perspective (default); orthographic (the perspective view's direction without perspective, "
+                    "spanning the DEM); panorama (360 x 180 degrees from 2 m above the DEM's centre, north in the "
+                    "middle); fisheye (180 degrees from there, looking up, north at the top); or map: top-down on "
+                    "the DEM's grid, written as GeoTIFF (.tif) or PNG. --camera sets the eye and look of any but map");
+    cmd->add_option("--spp", render.samples, "Camera samples per pixel, anti-aliasing (default 1: the pixel's centre)")
+        ->check(CLI::Range(1, 65536));
+    cmd->add_option("--sampler", t->sampler,
+                    "Sample pattern with --spp: regular, random, stratified (default), poisson, best-candidate");
+    cmd->add_option("--filter", t->filter, "Pixel filter with --spp: box (default), tent, gaussian");
+    t->adaptive = cmd->add_option("--adaptive", render.adaptiveError,
+                                  "Adaptive sampling up to --spp samples, until the standard error of a "
+                                  "pixel's luminance is below this (e.g. 0.002)");
     cmd->add_option("--scale", render.scale, "Map view: output pixels per DEM cell (default 1)");
     cmd->add_flag("--resume", render.resume,
                   "Map view as a GeoTIFF at scale 1: keep the output tiles an interrupted run of the same command "
@@ -78,9 +90,20 @@ void addRenderCommand(CLI::App& app, Commands& commands) {
                                 parseSunOption(t->sun, r.sunAzimuthDeg, r.sunElevationDeg);
                                 r.method = parseMethodOption(t->method);
                                 if (!t->sunTime.empty()) r.sunTime = parseSunTimeOption(t->sunTime);
-                                if (t->view != "perspective" && t->view != "map")
-                                    throw InputError(fmt::format(
-                                        "--view: expected perspective or map, found '{}'", t->view));
+                                if (t->view == "perspective") r.cameraKind = CameraKind::Pinhole;
+                                else if (t->view == "orthographic") r.cameraKind = CameraKind::Orthographic;
+                                else if (t->view == "panorama") r.cameraKind = CameraKind::Panorama;
+                                else if (t->view == "fisheye") r.cameraKind = CameraKind::Fisheye;
+                                else if (t->view != "map")
+                                    throw InputError(fmt::format("--view: expected perspective, orthographic, "
+                                                                 "panorama, fisheye or map, found '{}'",
+                                                                 t->view));
+                                if (!t->sampler.empty())
+                                    r.sampler = parseNamedOption(t->sampler, "--sampler", parseSamplePattern,
+                                                                 samplePatternList());
+                                if (!t->filter.empty())
+                                    r.filter = parseNamedOption(t->filter, "--filter", parseFilterKind, filterKindList());
+                                r.adaptive = t->adaptive->count() > 0;
                                 if (t->colour != "grey" && t->colour != "ramp")
                                     throw InputError(
                                         fmt::format("--colour: expected grey or ramp, found '{}'", t->colour));
@@ -91,7 +114,7 @@ void addRenderCommand(CLI::App& app, Commands& commands) {
                                         throw InputError(fmt::format(
                                             "--sky: expected physical, gradient, flat or none, found '{}'", t->sky));
                                     r.sky = *sky;
-                                    r.camera = parseCameraOption(t->camera);
+                                    r.camera = parseCameraOption(t->camera, r.cameraKind == CameraKind::Fisheye);
                                 }
                                 if (t->normals != "smooth" && t->normals != "facet")
                                     throw InputError(

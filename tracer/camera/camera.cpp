@@ -7,6 +7,17 @@
 
 namespace terracast {
 
+const char* cameraKindName(CameraKind kind) {
+    switch (kind) {
+    case CameraKind::Pinhole: return "pinhole";
+    case CameraKind::Orthographic: return "orthographic";
+    case CameraKind::ThinLens: return "thin-lens";
+    case CameraKind::Panorama: return "panorama";
+    case CameraKind::Fisheye: return "fisheye";
+    }
+    return "camera";
+}
+
 ViewCamera::ViewCamera(const CameraDescription& description, const glm::dvec3& eye, const glm::dvec3& lookAt,
                          double aspect)
     : d_(description), eye_(eye), aspect_(aspect) {

@@ -13,6 +13,10 @@ namespace terracast {
 
 enum class CameraKind { Pinhole, Orthographic, ThinLens, Panorama, Fisheye };
 
+// The kind's name as scene files and `render --view` spell it ("pinhole", "orthographic", "thin-lens",
+// "panorama", "fisheye").
+const char* cameraKindName(CameraKind kind);
+
 struct CameraDescription {
     CameraKind kind = CameraKind::Pinhole;
     // Eye and target in scene metres; unset means automatic framing of the terrain (or of all objects).

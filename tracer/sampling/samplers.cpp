@@ -420,8 +420,8 @@ uint32_t permuteIndex(uint32_t i, uint32_t n, uint64_t key) {
     return i;
 }
 
-PixelSampler::PixelSampler(SamplePattern pattern, int samplesPerPixel, uint64_t seed)
-    : pattern_(pattern), count_(samplesPerPixel), seed_(seed) {
+PixelSampler::PixelSampler(SamplePattern pattern, int samplesPerPixel, uint64_t seed, bool spreadPrefixes)
+    : pattern_(pattern), count_(samplesPerPixel), seed_(seed), spreadPrefixes_(spreadPrefixes) {
     requirePositive(samplesPerPixel, "pixel sampler");
     switch (pattern) {
     case SamplePattern::Regular: count_ = regularGridSide(samplesPerPixel) * regularGridSide(samplesPerPixel); break;
@@ -450,7 +450,10 @@ glm::dvec2 PixelSampler::sample(int64_t px, int64_t py, int k, uint32_t dimensio
     if (pattern_ == SamplePattern::Random) return sampleStream.uniform2(2 * uint64_t(dimension));
     const RandomStream round = roundStream(px, py, k);
     const uint64_t slot = 4 * uint64_t(dimension);
-    const uint32_t index = orderOf(round, k, dimension == 0 ? 0 : slot + kOrderDimension);
+    // In dimension 0, point k as generated, or with spread prefixes the points in a per-pixel random order (every
+    // other dimension's order is random anyway). Best-candidate points are spread at every prefix already.
+    const bool asGenerated = dimension == 0 && (!spreadPrefixes_ || pattern_ == SamplePattern::BestCandidate);
+    const uint32_t index = orderOf(round, k, asGenerated ? 0 : slot + kOrderDimension);
     switch (pattern_) {
     case SamplePattern::Regular: return regularPoint(int(index), regularGridSide(count_));
     case SamplePattern::Stratified:

@@ -119,7 +119,11 @@ uint32_t permuteIndex(uint32_t i, uint32_t n, uint64_t key);
 // Thread-safe: every method is const and allocation-free.
 class PixelSampler {
 public:
-    PixelSampler(SamplePattern pattern, int samplesPerPixel, uint64_t seed);
+    // With `spreadPrefixes`, dimension 0 too visits the points in a per-pixel random order, so that the first
+    // m < N samples of a pixel (all that an adaptive pixel may take) lie all over the pixel: taken in the
+    // pattern's own order, the first m regular or stratified points fill a band along the pixel's top. A pixel
+    // that takes all N samples sees the same points either way.
+    PixelSampler(SamplePattern pattern, int samplesPerPixel, uint64_t seed, bool spreadPrefixes = false);
 
     SamplePattern pattern() const { return pattern_; }
     // The samples each pixel gets: the request, or the nearest square for the regular pattern.
@@ -147,6 +151,7 @@ private:
     uint64_t seed_;
     StrataLayout layout_;
     std::vector<glm::dvec2> points_;
+    bool spreadPrefixes_ = false;
 };
 
 }  // namespace terracast

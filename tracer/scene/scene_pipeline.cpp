@@ -136,12 +136,7 @@ void renderSceneFile(const SceneRunOptions& o, const RunListener& listener) {
         listener.tell(fmt::format("focus distance {:.2f} m (pixel {},{})", *focus, o.focusX, o.focusY));
     }
     SceneRenderSettings s = sceneRenderSettings(r);
-    s.adaptive = o.adaptive;
-    if (o.adaptive) {
-        s.rule.maxSamples = std::max(r.samples, 2);
-        s.rule.minSamples = std::min(s.rule.minSamples, s.rule.maxSamples);
-        s.rule.absoluteError = o.adaptiveError;
-    }
+    static_cast<PixelSampling&>(s) = PixelSampling::make(r.samples, r.sampler, r.filter, o.adaptive, o.adaptiveError);
 
     if (o.debugPixel) {
         std::vector<RayRecord> tree;

@@ -458,26 +458,10 @@ glm::vec3 cameraSample(const Scene& scene, const Sky& sky, const ViewCamera& cam
 
 glm::vec3 pixelValue(const Scene& scene, const Sky& sky, const ViewCamera& camera, const SceneRenderSettings& s,
                      const PixelSampler* sampler, int x, int y, Counters& counters, std::vector<RayRecord>* tree) {
-    PixelAccumulator acc;
-    RunningStats stats;
-    const int n = sampler ? (s.adaptive ? s.rule.maxSamples : sampler->samplesPerPixel()) : 1;
-    for (int k = 0; k < n; ++k) {
-        // A pixel of 65536 samples takes seconds: an interrupt is honoured within it (the film is dropped).
-        if ((k & 255) == 255 && cancelFlag().load(std::memory_order_relaxed)) break;
-        const glm::vec3 radiance = cameraSample(scene, sky, camera, s, sampler, x, y, k, counters, tree);
-        acc.add(radiance, 1.0);
-        ++counters.samples;
-        if (!s.adaptive) continue;
-        stats.add(luminance(radiance));
-        if (s.rule.done(stats)) break;
-    }
-    return acc.value() * s.exposure;
-}
-
-// The sampler of a render: none for one sample per pixel (Whitted: centres only).
-std::unique_ptr<PixelSampler> makeSampler(const SceneRenderSettings& s) {
-    if (!s.adaptive && s.samples <= 1) return nullptr;
-    return std::make_unique<PixelSampler>(s.pattern, s.adaptive ? s.rule.maxSamples : s.samples, s.seed);
+    return s.exposure * estimatePixel(s, sampler, cancelFlag(), [&](int k) {
+               ++counters.samples;
+               return cameraSample(scene, sky, camera, s, sampler, x, y, k, counters, tree);
+           });
 }
 
 }  // namespace
@@ -551,7 +535,7 @@ std::optional<double> focusDistanceAt(const Scene& scene, const ViewCamera& came
 glm::vec3 tracePixel(const Scene& scene, const ViewCamera& camera, const SceneRenderSettings& s, int x, int y,
                      std::vector<RayRecord>* tree, SceneRayStats* stats) {
     Counters counters;
-    const auto sampler = makeSampler(s);
+    const auto sampler = s.makeSampler(s.seed);
     const Sky sky = makeSceneSky(scene, camera.eye().z);
     const glm::vec3 value = pixelValue(scene, sky, camera, s, sampler.get(), x, y, counters, tree);
     if (stats) counters.addTo(*stats);
@@ -565,7 +549,7 @@ Film renderScene(const Scene& scene, const ViewCamera& camera, const SceneRender
     SceneRayStats total;
     int64_t pixelsDone = 0;
     const int64_t pixels = int64_t(s.width) * s.height;
-    const auto sampler = makeSampler(s);
+    const auto sampler = s.makeSampler(s.seed);
     const Sky sky = makeSceneSky(scene, camera.eye().z);
     parallelForTiles(s.width, s.height, s.tileSize, s.threads, [&](int x0, int y0, int x1, int y1) {
         Counters counters;

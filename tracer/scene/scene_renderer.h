@@ -2,12 +2,10 @@
 // Fresnel with total internal reflection, Beer-Lambert absorption inside media, a sky for escaping rays.
 #pragma once
 
-#include "tracer/sampling/adaptive.h"
-#include "tracer/sampling/film.h"
-#include "tracer/sampling/filters.h"
-#include "tracer/sampling/samplers.h"
-#include "tracer/scene/scene.h"
 #include "tracer/camera/camera.h"
+#include "tracer/sampling/film.h"
+#include "tracer/sampling/pixel_estimate.h"
+#include "tracer/scene/scene.h"
 #include "tracer/sky/sky.h"
 
 #include <cstdint>
@@ -21,16 +19,10 @@ namespace terracast {
 enum class RayKind { Primary, Shadow, Reflection, Refraction, SkyVisibility };
 const char* rayKindName(RayKind kind);
 
-struct SceneRenderSettings {
+// Pixel sampling (samples per pixel, pattern, filter, adaptive rule) comes from PixelSampling.
+struct SceneRenderSettings : PixelSampling {
     int width = 960;
     int height = 540;
-    int samples = 1;            // per pixel; 1 traces the pixel centre, lens centre and light centres (Whitted)
-    SamplePattern pattern = SamplePattern::Stratified;
-    PixelFilter filter;         // box over the pixel by default
-    // Adaptive effort: with `adaptive`, a pixel takes samples until its standard error falls below the rule's
-    // threshold, between rule.minSamples and rule.maxSamples (`samples` is then ignored).
-    bool adaptive = false;
-    AdaptiveStopRule rule;
     int maxDepth = 6;           // reflection and refraction bounces after the primary ray
     double minWeight = 0.01;    // a secondary ray is not traced when its path weight falls below this
     uint64_t seed = 0;

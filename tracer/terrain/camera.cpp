@@ -1,7 +1,11 @@
 #include "tracer/terrain/camera.h"
 
 #include "tracer/core/angles.h"
+#include "tracer/core/errors.h"
 
+#include <fmt/core.h>
+
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -47,7 +51,7 @@ PinholeCamera autoCamera(const HeightGrid& grid, double aspect, double fovYDeg) 
     return cam;
 }
 
-std::optional<std::string> parseCamera(const std::string& text, PinholeCamera& camera) {
+std::optional<std::string> parseCamera(const std::string& text, PinholeCamera& camera, bool fisheye) {
     std::istringstream in(text);
     std::string item;
     bool haveEye = false, haveLook = false;
@@ -79,9 +83,12 @@ std::optional<std::string> parseCamera(const std::string& text, PinholeCamera& c
         } else if (key == "fov") {
             char* end = nullptr;
             const double fov = std::strtod(value.c_str(), &end);
-            if (end == value.c_str() || *end != '\0' || !(fov > 0.0 && fov < 180.0))
-                return "fov expects degrees in (0, 180), found '" + value + "'";
+            const bool inRange = fisheye ? fov > 0.0 && fov <= 360.0 : fov > 0.0 && fov < 180.0;
+            if (end == value.c_str() || *end != '\0' || !inRange)
+                return std::string(fisheye ? "fov expects degrees in (0, 360]" : "fov expects degrees in (0, 180)") +
+                       ", found '" + value + "'";
             camera.fovYDeg = fov;
+            camera.fovGiven = true;
         } else {
             return "unknown key '" + key + "' (expected eye, look, up or fov)";
         }
@@ -93,6 +100,52 @@ std::optional<std::string> parseCamera(const std::string& text, PinholeCamera& c
         glm::length(camera.up) == 0.0)
         return std::string("up must be non-zero and not parallel to the view direction");
     return std::nullopt;
+}
+
+ViewCamera makeViewCamera(const HeightGrid& grid, CameraKind kind, const std::optional<PinholeCamera>& given,
+                          double aspect) {
+    CameraDescription d;
+    d.kind = kind;
+    if (given) {
+        d.up = given->up;
+        if (given->fovGiven && (kind == CameraKind::Orthographic || kind == CameraKind::Panorama))
+            throw InputError(fmt::format("--camera: fov does not apply to --view {} (found fov={:g})",
+                                         kind == CameraKind::Orthographic ? "orthographic" : "panorama",
+                                         given->fovYDeg));
+    }
+    const glm::dvec3 lo{0.0, 0.0, grid.minHeightM()}, hi{grid.extentXM(), grid.extentYM(), grid.maxHeightM()};
+    if (kind == CameraKind::Orthographic) {
+        const PinholeCamera from = given ? *given : autoCamera(grid, aspect);
+        const glm::dvec3 forward = glm::normalize(from.lookAtM - from.eyeM);
+        const glm::dvec3 right = glm::normalize(glm::cross(forward, d.up));
+        const glm::dvec3 up = glm::cross(right, forward);
+        // The picture spans the grid's box as seen along `forward`, centred on the look-at point, with 5 % to spare;
+        // the rays start a box diagonal behind the nearest corner, so no part of the grid is cut off.
+        double halfH = 0.0, nearest = 0.0;
+        for (int k = 0; k < 8; ++k) {
+            const glm::dvec3 corner{k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z};
+            const glm::dvec3 r = corner - from.lookAtM;
+            halfH = std::max({halfH, std::abs(glm::dot(r, up)), std::abs(glm::dot(r, right)) / aspect});
+            nearest = std::min(nearest, glm::dot(r, forward));
+        }
+        d.orthoHeightM = 2.1 * std::max(halfH, 1e-9);
+        const double back = -nearest + glm::length(hi - lo) + 1.0;
+        return ViewCamera(d, from.lookAtM - back * forward, from.lookAtM, aspect);
+    }
+    d.fovDeg = kind == CameraKind::Fisheye ? 180.0 : 40.0;
+    if (given) {
+        if (given->fovGiven) d.fovDeg = given->fovYDeg;
+        return ViewCamera(d, given->eyeM, given->lookAtM, aspect);
+    }
+    // Standing 2 m above the ground at the grid's centre vertex, or above the highest sample over a hole.
+    const int64_t i = (grid.width() - 1) / 2, j = (grid.height() - 1) / 2;
+    const double ground = grid.vertexValid(i, j) ? double(grid.at(i, j)) : double(grid.maxHeightM());
+    const glm::dvec3 eye{double(i) * grid.cellSizeXM(), double(j) * grid.cellSizeYM(), ground + 2.0};
+    if (kind == CameraKind::Fisheye) {
+        d.up = {0.0, 1.0, 0.0};  // north at the top of the picture
+        return ViewCamera(d, eye, eye + glm::dvec3(0.0, 0.0, 1.0), aspect);
+    }
+    return ViewCamera(d, eye, eye + glm::dvec3(0.0, 1.0, 0.0), aspect);  // the panorama's centre looks north
 }
 
 }  // namespace terracast

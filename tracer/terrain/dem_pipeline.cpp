@@ -251,6 +251,10 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     if (!(o.haze >= 0.0 && o.haze <= 1000.0))
         throw InputError(fmt::format("--haze: expected a number in 0..1000, found {}", o.haze));
     if (o.resume) throw InputError("render --resume: only the map view as a GeoTIFF at --scale 1 can resume");
+    if (o.samples < 1 || o.samples > 65536)
+        throw InputError(fmt::format("--spp: expected 1..65536 samples per pixel, found {}", o.samples));
+    if (o.adaptive && !(o.adaptiveError > 0.0))
+        throw InputError(fmt::format("--adaptive: expected an error > 0, found {}", o.adaptiveError));
     // Embree's meshes read every vertex; the direct methods read only the tiles the render sees.
     LoadedDem dem = loadDemSource(o.dem, listener, directCellMethod(o.method).has_value(), o.exaggeration);
     HeightGrid& grid = dem.grid;
@@ -263,6 +267,13 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     s.sky.samples = o.skySamples < 0 ? 4 : o.skySamples;
     s.seed = o.seed;
     s.smoothNormals = o.smoothNormals;
+    s.sampling = PixelSampling::make(o.samples, o.sampler, o.filter, o.adaptive, o.adaptiveError);
+    if (o.cameraKind != CameraKind::Pinhole) {
+        s.view = makeViewCamera(grid, o.cameraKind, o.camera, double(o.width) / double(o.height));
+        s.camera.eyeM = s.view->eye();  // the viewer's place in the atmosphere
+        // Aerial perspective needs one centre of projection: the orthographic camera's rays have none.
+        if (o.cameraKind == CameraKind::Orthographic) s.sky.aerialPerspective = false;
+    }
     s.progress = progressWithTiles(listener, grid);
 
     prepareImageWriter(o.output);
@@ -289,9 +300,16 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     phases.total = seconds(start, written);
     const int64_t rays = stats.primaryRays + stats.shadowRays + stats.skyVisibilityRays;
     const std::string tiles = tileTraffic(grid);
-    listener.tell(fmt::format("rendered {} ({}x{}, {}, {} sky) in {:.2f} s: {} primary + {} shadow + {} "
+    std::string view;
+    if (o.cameraKind != CameraKind::Pinhole) view = std::string(", ") + cameraKindName(o.cameraKind);
+    if (o.adaptive)
+        view += fmt::format(", {:.1f} samples per pixel on average (adaptive up to {})",
+                            double(stats.primaryRays) / (double(o.width) * o.height), s.sampling.rule.maxSamples);
+    else if (o.samples > 1)
+        view += fmt::format(", {} samples per pixel", s.sampling.samples);
+    listener.tell(fmt::format("rendered {} ({}x{}, {}, {} sky{}) in {:.2f} s: {} primary + {} shadow + {} "
                               "sky-visibility rays, {:.2f} Mrays/s, peak memory {}{}",
-                              o.output, o.width, o.height, surfaceMethodName(o.method), skyKindName(o.sky),
+                              o.output, o.width, o.height, surfaceMethodName(o.method), skyKindName(o.sky), view,
                               stats.seconds, stats.primaryRays, stats.shadowRays, stats.skyVisibilityRays,
                               stats.seconds > 0 ? double(rays) / stats.seconds * 1e-6 : 0.0,
                               humanBytes(peakResidentBytes()), tiles.empty() ? "" : "; " + tiles));

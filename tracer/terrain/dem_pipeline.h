@@ -5,7 +5,10 @@
 
 #include "loaders/dem_loader.h"
 #include "tracer/core/listener.h"
+#include "tracer/camera/camera.h"
 #include "tracer/core/surface_method.h"
+#include "tracer/sampling/filters.h"
+#include "tracer/sampling/samplers.h"
 #include "tracer/sky/calendar.h"
 #include "tracer/sky/sky_description.h"
 #include "tracer/terrain/camera.h"
@@ -65,6 +68,12 @@ struct DemRenderOptions {
     SurfaceMethod method = SurfaceMethod::Bilinear;  // cell intersector, or Embree
     int threads = 0;                           // 0 = all cores
     bool mapView = false;                      // top-down orthographic map on the DEM's grid (--view map)
+    CameraKind cameraKind = CameraKind::Pinhole;  // otherwise: perspective, orthographic, panorama or fisheye
+    int samples = 1;                           // camera samples per pixel (--spp); 1 = the pixel's centre
+    SamplePattern sampler = SamplePattern::Stratified;
+    FilterKind filter = FilterKind::Box;
+    bool adaptive = false;                     // adaptive sampling up to max(samples, 2) per pixel ...
+    double adaptiveError = 0.002;              // ... until the standard error of a pixel's luminance is below this
     double scale = 1.0;                        // map view: output pixels per DEM cell along each axis
     bool resume = false;                       // map view GeoTIFF at scale 1: keep an interrupted run's tiles
     bool castShadows = true;                   // map view: ray-traced cast shadows

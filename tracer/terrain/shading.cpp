@@ -79,7 +79,7 @@ TerrainShader::TerrainShader(const HeightGrid& grid, const TerrainSurface& surfa
       sky_(sky, SkySun{toSun_, sunIrradiance_}, viewerAltitudeM) {}
 
 glm::vec3 TerrainShader::hit(const HeightFieldHit& hit, const Ray& ray, int px, int py, int64_t& shadowRays,
-                             int64_t& skyRays) const {
+                             int64_t& skyRays, int sample) const {
     // The shading normal, on the side the ray came from; whether the sun can reach the point is the geometric
     // surface's to say (sunShadowRay), so smooth shading changes no shadow.
     glm::dvec3 n = facingNormal(hit, ray.dir);
@@ -94,20 +94,20 @@ glm::vec3 TerrainShader::hit(const HeightFieldHit& hit, const Ray& ray, int px, 
         if (!surface_.occluded(*shadowRay, {0.0, kInfinity}))
             light += sky_.sunlight(sunIrradiance_, toSun_, hit.pointM.z) * float(std::max(0.0, glm::dot(n, toSun_)));
     }
-    light += skyLight(hit, n, px, py, skyRays);
+    light += skyLight(hit, n, px, py, sample, skyRays);
     return sky_.throughAir(albedo * light, ray.dir, hit.t);
 }
 
 // The sky's light on a surface so oriented, times the open fraction of the hemisphere when the sky asks for
 // visibility rays (see the scene renderer's sky light).
-glm::vec3 TerrainShader::skyLight(const HeightFieldHit& hit, const glm::dvec3& n, int px, int py,
+glm::vec3 TerrainShader::skyLight(const HeightFieldHit& hit, const glm::dvec3& n, int px, int py, int sample,
                                   int64_t& skyRays) const {
     if (sky_.ambientScale() <= 0.0f) return glm::vec3(0.0f);
     const glm::vec3 open = sky_.ambient(n.z);
     const int count = skySamples_;
     if (count <= 0) return open;
     skyRays += count;
-    return open * openSkyFraction(n, count, RandomStream(seed_, px, py).uniform2(0), [&](const glm::dvec3& dir) {
+    return open * openSkyFraction(n, count, RandomStream(seed_, px, py, uint64_t(sample)).uniform2(0), [&](const glm::dvec3& dir) {
                return surface_.occluded(Ray{spawnOrigin(hit, dir), dir}, {0.0, kInfinity});
            });
 }

@@ -51,12 +51,14 @@ public:
 
     // What a camera ray that meets no terrain sees.
     glm::vec3 miss(const glm::dvec3& dir) const { return sky_.radiance(dir); }
-    // The radiance a camera ray through pixel (px, py) brings back from `hit`; counts the rays it traces.
-    glm::vec3 hit(const HeightFieldHit& hit, const Ray& ray, int px, int py, int64_t& shadowRays,
-                  int64_t& skyRays) const;
+    // The radiance camera sample `sample` of pixel (px, py) brings back from `hit`; counts the rays it traces.
+    // The pixel and sample pick the sky-visibility directions.
+    glm::vec3 hit(const HeightFieldHit& hit, const Ray& ray, int px, int py, int64_t& shadowRays, int64_t& skyRays,
+                  int sample = 0) const;
 
 private:
-    glm::vec3 skyLight(const HeightFieldHit& hit, const glm::dvec3& n, int px, int py, int64_t& skyRays) const;
+    glm::vec3 skyLight(const HeightFieldHit& hit, const glm::dvec3& n, int px, int py, int sample,
+                       int64_t& skyRays) const;
 
     const HeightGrid& grid_;
     const TerrainSurface& surface_;

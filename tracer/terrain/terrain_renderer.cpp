@@ -1,5 +1,6 @@
 #include "tracer/terrain/terrain_renderer.h"
 
+#include "tracer/core/cancel.h"
 #include "tracer/core/parallel.h"
 #include "tracer/core/ranks.h"
 
@@ -24,18 +25,44 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
     std::mutex progressMutex;
     const int64_t totalPixels = int64_t(s.width) * s.height;
 
+    // One sample per pixel through a pinhole: the pixels' centres, traced in bundles. Otherwise each pixel takes
+    // its samples (placed by the pixel filter, as many as the sampling asks or the adaptive rule needs) through
+    // whichever camera the view has.
+    const auto sampler = s.sampling.makeSampler(s.seed);
+    const bool centresOnly = !s.view && !sampler;
+    const double aspect = double(s.width) / double(s.height);
     const auto renderTile = [&](int x0, int y0, int x1, int y1) {
         int64_t nPrimary = 0, nShadow = 0, nSky = 0, nHits = 0;
-        traceCameraRays(surface, s.camera, s.width, s.height, x0, y0, x1, y1,
-                        [&](int x, int y, const Ray& ray, const std::optional<HeightFieldHit>& hit) {
-                            ++nPrimary;
-                            if (!hit) {
-                                film.set(x, y, shader.miss(ray.dir));
-                                return;
-                            }
-                            ++nHits;
-                            film.set(x, y, shader.hit(*hit, ray, x, y, nShadow, nSky));
-                        });
+        if (centresOnly) {
+            traceCameraRays(surface, s.camera, s.width, s.height, x0, y0, x1, y1,
+                            [&](int x, int y, const Ray& ray, const std::optional<HeightFieldHit>& hit) {
+                                ++nPrimary;
+                                if (!hit) {
+                                    film.set(x, y, shader.miss(ray.dir));
+                                    return;
+                                }
+                                ++nHits;
+                                film.set(x, y, shader.hit(*hit, ray, x, y, nShadow, nSky));
+                            });
+        } else {
+            for (int y = y0; y < y1; ++y)
+                for (int x = x0; x < x1; ++x) {
+                    if (cancelFlag().load(std::memory_order_relaxed)) return;  // parallelForTiles throws Cancelled
+                    film.set(x, y, estimatePixel(s.sampling, sampler.get(), cancelFlag(), [&](int k) {
+                                 const glm::dvec2 offset =
+                                     sampler ? s.sampling.filter.offsetOf(sampler->sample(x, y, k, 0)) : glm::dvec2(0.0);
+                                 const double fx = (x + 0.5 + offset.x) / s.width, fy = (y + 0.5 + offset.y) / s.height;
+                                 const std::optional<Ray> ray =
+                                     s.view ? s.view->generate(fx, fy) : std::optional<Ray>(s.camera.generate(fx, fy, aspect));
+                                 if (!ray) return glm::vec3(0.0f);  // outside a fisheye's circle: black
+                                 ++nPrimary;
+                                 const auto hit = surface.intersect(*ray, {0.0, kInfinity});
+                                 if (!hit) return shader.miss(ray->dir);
+                                 ++nHits;
+                                 return shader.hit(*hit, *ray, x, y, nShadow, nSky, k);
+                             }));
+                }
+        }
         primary += nPrimary;
         shadow += nShadow;
         sky += nSky;

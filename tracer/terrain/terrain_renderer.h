@@ -5,8 +5,10 @@
 
 #include "heightfield/height_grid.h"
 #include "heightfield/traversal.h"
-#include "tracer/terrain/camera.h"
+#include "tracer/camera/camera.h"
 #include "tracer/sampling/film.h"
+#include "tracer/sampling/pixel_estimate.h"
+#include "tracer/terrain/camera.h"
 #include "tracer/sky/sky_description.h"
 #include "tracer/terrain/surface.h"
 #include "tracer/terrain/shading.h"
@@ -15,6 +17,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 
 namespace terracast {
 
@@ -23,6 +26,10 @@ struct TerrainRenderSettings {
     int width = 1280;                          // pixels
     int height = 720;                          // pixels
     PinholeCamera camera;                      // local metres
+    // When set, the camera rays come from this camera (orthographic, panorama, fisheye) rather than from
+    // `camera`, which then only places the viewer in the atmosphere.
+    std::optional<ViewCamera> view;
+    PixelSampling sampling;                    // samples per pixel, pattern, filter, adaptive rule
     Sun sun;
     SkyDescription sky;                        // model (physical by default), haze, aerial perspective, ambient,
                                                // sky-visibility rays per hit

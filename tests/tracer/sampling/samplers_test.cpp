@@ -413,3 +413,34 @@ TEST_CASE("Samples past N start a new round of the pattern", "[tracer][sampling]
     CHECK(first != second);
     CHECK(minPairDistance(second, true) == Approx(minPairDistance(poisson.points(), true)).epsilon(1e-9));
 }
+
+TEST_CASE("With spread prefixes, an adaptive pixel's first samples lie all over the pixel", "[tracer][sampling]") {
+    // 256 stratified points in 16 x 16 strata: the first 16 in the pattern's own order are its top row. An
+    // adaptive pixel may stop there, so its sampler visits the strata in a random order: the first 16 then
+    // fall in many rows, a quarter of the pixel's height or more apart on average, and all 256 are still one
+    // point per stratum.
+    const int n = 256;
+    const StrataLayout layout = strataLayout(n);
+    for (const bool spread : {false, true}) {
+        const PixelSampler sampler(SamplePattern::Stratified, n, 9, spread);
+        int pixelsSpread = 0;
+        for (int px = 0; px < 50; ++px) {
+            std::set<int> rows;
+            double sumY = 0.0;
+            for (int k = 0; k < 16; ++k) {
+                const glm::dvec2 p = sampler.sample(px, 1, k, 0);
+                rows.insert(int(p.y * layout.rows));
+                sumY += p.y;
+            }
+            pixelsSpread += rows.size() >= 6 && std::abs(sumY / 16.0 - 0.5) < 0.25;
+            std::set<int> strata;
+            for (int k = 0; k < n; ++k) {
+                const glm::dvec2 p = sampler.sample(px, 1, k, 0);
+                strata.insert(int(p.y * layout.rows) * layout.columns + int(p.x * layout.columns));
+            }
+            CHECK(int(strata.size()) == n);
+        }
+        INFO((spread ? "spread prefixes" : "pattern order"));
+        CHECK(pixelsSpread == (spread ? 50 : 0));
+    }
+}
