@@ -25,9 +25,9 @@ void addInfoCommand(CLI::App& app, Commands& commands) {
 void addRenderCommand(CLI::App& app, Commands& commands) {
     struct Texts {
         DemRenderOptions options;
-        std::string size = "1280x720", sun = "315,35", method = "bilinear", view = "perspective", colour = "grey";
-        std::string sky = "physical", sunTime, camera, normals = "smooth", sampler, filter;
-        bool noShadows = false, quiet = false;
+        std::string size = "1280x720", sun = "315,35", method = "bilinear", view = "perspective", colour;
+        std::string sky = "physical", sunTime, camera, normals = "smooth", sampler, filter, background = "neutral";
+        bool noShadows = false, quiet = false, noBase = false;
         CLI::Option* adaptive = nullptr;
     };
     auto t = std::make_shared<Texts>();
@@ -80,7 +80,17 @@ void addRenderCommand(CLI::App& app, Commands& commands) {
                     "Perspective: shade with smooth normals interpolated from the vertices' gradients (default), or "
                     "facet: each cell's own surface normal; hits and shadows are the same either way");
     cmd->add_option("--seed", render.seed, "Random seed for the sky-visibility directions (default 0)");
-    cmd->add_option("--colour", t->colour, "Map view: grey (default) or ramp (by elevation)");
+    cmd->add_option("--colour", t->colour,
+                    "Terrain colour: ramp (by elevation; the default in perspective), grey (the map view's default), "
+                    "or in perspective a colour as #rrggbb (sRGB)");
+    cmd->add_option("--drape", render.drape,
+                    "Perspective: colour the terrain with this image (any raster GDAL reads, RGB or grey), warped "
+                    "onto the DEM's grid through both georeferences (or stretched over it when either has none)");
+    cmd->add_flag("--no-base", t->noBase,
+                  "Perspective: no solid base (by default the DEM stands on walls from its edges down to a floor)");
+    cmd->add_option("--background", t->background,
+                    "Perspective: what rays that meet nothing show: neutral (grey, the default), sky (the sky model, "
+                    "its horizon colour below the horizon) or ground (the sky model's Earth below the horizon)");
     cmd->add_option("--hillshade-blend", render.hillshadeBlend,
                     "Map view: weight of a plain hillshade without shadows or sky, 0..1 (default 0)");
     commands.push_back({cmd, [t] {
@@ -104,9 +114,33 @@ void addRenderCommand(CLI::App& app, Commands& commands) {
                                 if (!t->filter.empty())
                                     r.filter = parseNamedOption(t->filter, "--filter", parseFilterKind, filterKindList());
                                 r.adaptive = t->adaptive->count() > 0;
-                                if (t->colour != "grey" && t->colour != "ramp")
-                                    throw InputError(
-                                        fmt::format("--colour: expected grey or ramp, found '{}'", t->colour));
+                                // The map view is grey by default, perspective views take the elevation ramp.
+                                const std::string colour =
+                                    !t->colour.empty() ? t->colour : t->view == "map" ? "grey" : "ramp";
+                                const std::optional<glm::vec3> hex = parseHexColour(colour);
+                                if (colour != "grey" && colour != "ramp" && !(hex && t->view != "map"))
+                                    throw InputError(fmt::format(
+                                        "--colour: expected grey or ramp{}, found '{}'",
+                                        t->view == "map" ? "" : " or a colour as #rrggbb", colour));
+                                if (colour == "grey") {
+                                    r.colouring = TerrainLook::Colouring::Plain;
+                                } else if (hex) {
+                                    r.colouring = TerrainLook::Colouring::Plain;
+                                    r.plainColour = *hex;
+                                }
+                                if (!r.drape.empty()) {
+                                    if (t->view == "map")
+                                        throw InputError("--drape: only perspective views take a drape");
+                                    if (!t->colour.empty())
+                                        throw InputError("--drape and --colour both set the terrain's colour: give one");
+                                    r.colouring = TerrainLook::Colouring::Drape;
+                                }
+                                const auto background = parseBackdrop(t->background);
+                                if (!background)
+                                    throw InputError(fmt::format(
+                                        "--background: expected neutral, sky or ground, found '{}'", t->background));
+                                r.backdrop = *background;
+                                r.solidBase = !t->noBase;
                                 r.mapView = t->view == "map";
                                 if (!r.mapView) {  // the map view has no sky model and no camera to set
                                     const auto sky = parseSkyKind(t->sky);
@@ -121,7 +155,7 @@ void addRenderCommand(CLI::App& app, Commands& commands) {
                                         fmt::format("--normals: expected smooth or facet, found '{}'", t->normals));
                                 r.smoothNormals = t->normals == "smooth";
                                 r.castShadows = !t->noShadows;
-                                r.colourRamp = t->colour == "ramp";
+                                r.colourRamp = colour == "ramp";
                                 const ConsoleListener console(t->quiet);
                                 renderDem(r, console.listener());
                             });

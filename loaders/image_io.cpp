@@ -77,12 +77,11 @@ int openInPlace(const std::string& path) {
     return fd;
 }
 
-// Decodes an sRGB value in [0, 1] to linear.
+}  // namespace
+
 float linearFromSrgb(float encoded) {
     return encoded <= 0.04045f ? encoded / 12.92f : std::pow((encoded + 0.055f) / 1.055f, 2.4f);
 }
-
-}  // namespace
 
 float srgbFromLinear(float linear) {
     if (!(linear > 0.0f)) return 0.0f;

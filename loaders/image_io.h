@@ -48,6 +48,8 @@ void writeFileAtomically(const std::string& path, std::string_view bytes);
 
 // The sRGB encoding (IEC 61966-2-1) of a linear value, in [0, 1]; inputs outside [0, 1] and NaN are clamped.
 float srgbFromLinear(float linear);
+// The sRGB transfer function inverted (IEC 61966-2-1): an encoded value in [0, 1] to linear.
+float linearFromSrgb(float encoded);
 
 // Reads an image as linear RGB (PNG is decoded from sRGB). Throws InputError on failure.
 RgbImage readImage(const std::string& path);

@@ -1,4 +1,6 @@
 #include "loaders/scene_assets.h"
+
+#include "loaders/image_io.h"
 #include "loaders/input_files.h"
 
 #include "loaders/crs.h"
@@ -18,11 +20,6 @@ namespace {
 
 std::string where(const SceneDescription& scene, const SourceLocation& at) {
     return fmt::format("{}:{}:{}: ", scene.path, at.line, at.column);
-}
-
-// The sRGB transfer function inverted (IEC 61966-2-1): 8-bit orthophotos are stored sRGB-encoded.
-float linearFromSrgb(float c) {
-    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
 // Warps `source` onto the DEM's lattice with GDAL's warper (bilinear), into an in-memory dataset.

@@ -44,7 +44,7 @@ const std::vector<Rule>& rules() {
             {"tracer/camera/", {"tracer/camera/", "heightfield/", "tracer/core/", "tracer/sampling/"}},
             {"tracer/sky/", {"tracer/sky/", "tracer/sampling/", "tracer/core/"}},
             {"loaders/", with(with(base, description), {"loaders/"})},
-            {"tracer/terrain/", with(base, {"tracer/terrain/", "loaders/"})},
+            {"tracer/terrain/", with(with(base, description), {"tracer/terrain/", "loaders/"})},
             {"tracer/scene/", with(base, {"tracer/scene/", "tracer/terrain/", "loaders/"})},
             {"tracer/measure/", with(base, {"tracer/measure/", "tracer/terrain/", "loaders/"})},
             {"cli/", with(base, {"tracer/", "loaders/", "cli/"})},

@@ -24,8 +24,8 @@ Ray PinholeCamera::generate(double fx, double fy, double aspect) const {
     return Ray{eyeM, glm::normalize(forward + sx * right + sy * camUp)};
 }
 
-PinholeCamera autoCamera(const HeightGrid& grid, double aspect, double fovYDeg) {
-    const double zLo = grid.minHeightM(), zHi = grid.maxHeightM();
+PinholeCamera autoCamera(const HeightGrid& grid, double aspect, double fovYDeg, std::optional<double> bottomM) {
+    const double zLo = std::min(double(grid.minHeightM()), bottomM.value_or(grid.minHeightM())), zHi = grid.maxHeightM();
     const glm::dvec3 lo{0.0, 0.0, zLo}, hi{grid.extentXM(), grid.extentYM(), zHi};
     const glm::dvec3 centre = 0.5 * (lo + hi);
     // Looking north-east (azimuth 45 degrees) and 30 degrees below the horizon.

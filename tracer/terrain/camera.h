@@ -25,7 +25,9 @@ struct PinholeCamera {
 
 // The default view of a grid: from the south-west, looking north-east and about 30 degrees down, far
 // enough back that the whole grid (heights included) fits the frame.
-PinholeCamera autoCamera(const HeightGrid& grid, double aspect, double fovYDeg = 40.0);
+// `bottomM`, when given, lowers the box's floor below the grid's lowest height (to frame a solid base too).
+PinholeCamera autoCamera(const HeightGrid& grid, double aspect, double fovYDeg = 40.0,
+                         std::optional<double> bottomM = std::nullopt);
 
 // Parses "eye=x,y,z look=x,y,z fov=deg" (any order, fov optional; up optional as up=x,y,z). The field of view
 // is in (0, 180), or for a fisheye (the full field) in (0, 360]. Returns an error message on failure.

@@ -5,6 +5,7 @@
 #include "loaders/image_io.h"
 #include "loaders/output_paths.h"
 #include "loaders/raster_writer.h"
+#include "loaders/scene_assets.h"
 #include "loaders/crs.h"
 #include "tracer/core/errors.h"
 #include "loaders/tiled_dem.h"
@@ -13,6 +14,7 @@
 #include "tracer/core/text.h"
 #include "tracer/terrain/maps.h"
 #include "tracer/terrain/memory_model.h"
+#include "tracer/terrain/solid_base.h"
 #include "tracer/terrain/surface.h"
 #include "tracer/terrain/tiled_product.h"
 
@@ -255,6 +257,7 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
         throw InputError(fmt::format("--spp: expected 1..65536 samples per pixel, found {}", o.samples));
     if (o.adaptive && !(o.adaptiveError > 0.0))
         throw InputError(fmt::format("--adaptive: expected an error > 0, found {}", o.adaptiveError));
+    if (!o.drape.empty()) checkNotInput(o.output, o.drape, "-o", "the drape");
     // Embree's meshes read every vertex; the direct methods read only the tiles the render sees.
     LoadedDem dem = loadDemSource(o.dem, listener, directCellMethod(o.method).has_value(), o.exaggeration);
     HeightGrid& grid = dem.grid;
@@ -268,6 +271,13 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     s.seed = o.seed;
     s.smoothNormals = o.smoothNormals;
     s.sampling = PixelSampling::make(o.samples, o.sampler, o.filter, o.adaptive, o.adaptiveError);
+    s.look.colouring = o.colouring;
+    s.look.plain = o.plainColour;
+    s.look.solidBase = o.solidBase;
+    // The automatic view frames the base too.
+    if (o.solidBase && !o.camera) s.camera = autoCamera(grid, double(o.width) / double(o.height), 40.0, solidBaseFloorM(grid));
+    s.look.backdrop = o.backdrop;
+
     if (o.cameraKind != CameraKind::Pinhole) {
         s.view = makeViewCamera(grid, o.cameraKind, o.camera, double(o.width) / double(o.height));
         s.camera.eyeM = s.view->eye();  // the viewer's place in the atmosphere
@@ -277,9 +287,18 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     s.progress = progressWithTiles(listener, grid);
 
     prepareImageWriter(o.output);
+    // A drape holds three floats a vertex.
+    const bool draped = o.colouring == TerrainLook::Colouring::Drape;
+    const double drapeBytes = draped ? 12.0 * double(grid.width()) * double(grid.height()) : 0.0;
     checkMemory(o.dem.path, o.dem.maxMemoryBytes, grid,
-                double(o.width) * o.height * (kFilmBytesPerPixel + kEncodeBytesPerPixel) + embreeBytesEstimate(o.method, grid),
-                fmt::format("rendering {}x{} with {}", o.width, o.height, surfaceMethodName(o.method)));
+                double(o.width) * o.height * (kFilmBytesPerPixel + kEncodeBytesPerPixel) + embreeBytesEstimate(o.method, grid) +
+                    drapeBytes,
+                fmt::format("rendering {}x{} with {}{}", o.width, o.height, surfaceMethodName(o.method),
+                            draped ? " and a drape" : ""));
+    if (draped) {
+        listener.at("drape");
+        s.look.drape = std::make_shared<const DrapeImage>(loadDrape(o.drape, dem.geo, grid.width(), grid.height()));
+    }
     const auto loaded = Clock::now();
     const TerrainSurface surface(grid, o.method, o.threads);
     const auto built = Clock::now();

@@ -84,6 +84,13 @@ struct DemRenderOptions {
     uint64_t seed = 0;                         // sky-visibility directions
     bool smoothNormals = true;                 // perspective: shade with smooth normals (--normals smooth)
     bool colourRamp = false;                   // map view: elevation colours instead of grey
+    // Perspective views: the terrain's colour (the elevation ramp, a plain colour, or `drape`, an image of any
+    // raster GDAL reads warped onto the DEM's grid), the solid base and the backdrop.
+    TerrainLook::Colouring colouring = TerrainLook::Colouring::Ramp;
+    glm::vec3 plainColour{0.6f};               // linear RGB, for Colouring::Plain
+    std::string drape;                         // file, for Colouring::Drape
+    bool solidBase = true;
+    Backdrop backdrop = Backdrop::Neutral;
     double hillshadeBlend = 0.0;               // map view: weight of a plain hillshade, 0..1
 };
 

@@ -5,9 +5,11 @@
 #include "tracer/core/angles.h"
 #include "tracer/sampling/rng.h"
 #include "tracer/sampling/warps.h"
+#include "tracer/terrain/solid_base.h"
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace terracast {
 
@@ -71,12 +73,68 @@ glm::vec3 shadeTerrainHit(const HeightGrid& grid, const HeightFieldHit& hit, con
     return albedo * (direct * kSunColour + skyLight * kSkyAmbient);
 }
 
+std::optional<Backdrop> parseBackdrop(std::string_view name) {
+    if (name == "neutral") return Backdrop::Neutral;
+    if (name == "sky") return Backdrop::Sky;
+    if (name == "ground") return Backdrop::Ground;
+    return std::nullopt;
+}
+
 TerrainShader::TerrainShader(const HeightGrid& grid, const TerrainSurface& surface, const Sun& sun,
-                             const SkyDescription& sky, double viewerAltitudeM, uint64_t seed, bool smoothNormals)
+                             const SkyDescription& sky, double viewerAltitudeM, uint64_t seed, bool smoothNormals,
+                             TerrainLook look)
     : grid_(grid), surface_(surface), sun_(sun), skySamples_(sky.samples), seed_(seed), smoothNormals_(smoothNormals),
       toSun_(sun.direction()),
       sunIrradiance_((sky.kind == SkyKind::Physical ? glm::vec3(1.0f) : kSunColour) * sun.intensity),
-      sky_(sky, SkySun{toSun_, sunIrradiance_}, viewerAltitudeM) {}
+      sky_(sky, SkySun{toSun_, sunIrradiance_}, viewerAltitudeM), look_(std::move(look)),
+      floorM_(solidBaseFloorM(grid)) {}
+
+glm::vec3 TerrainShader::miss(const glm::dvec3& dir) const {
+    switch (look_.backdrop) {
+    case Backdrop::Ground: return sky_.radiance(dir);
+    case Backdrop::Sky: {
+        if (dir.z >= 0.0) return sky_.radiance(dir);
+        glm::dvec3 level{dir.x, dir.y, 0.0};
+        if (glm::dot(level, level) < 1e-24) level = {0.0, 1.0, 0.0};  // straight down: any azimuth
+        return sky_.radiance(glm::normalize(level));
+    }
+    case Backdrop::Neutral: {
+        // Linear grey 0.60 at and above the horizon, falling to 0.30 straight down.
+        const float below = float(std::clamp(-dir.z, 0.0, 1.0));
+        return glm::vec3(0.60f - 0.30f * below);
+    }
+    }
+    return glm::vec3(0.0f);
+}
+
+std::optional<glm::vec3> TerrainShader::base(const Ray& ray, double tMax, int64_t& shadowRays) const {
+    if (!look_.solidBase) return std::nullopt;
+    const auto wall = intersectSolidBase(grid_, floorM_, ray, tMax);
+    if (!wall) return std::nullopt;
+    // Lambert under the sun (unless the terrain shadows the wall) and the sky light a wall receives.
+    glm::vec3 light = sky_.ambient(0.0);
+    const double cosSun = glm::dot(wall->normal, toSun_);
+    if (cosSun > 0.0 && toSun_.z > -1.0) {
+        ++shadowRays;
+        const Ray toward{wall->point + wall->normal * (1e-6 * (1.0 + glm::length(wall->point))), toSun_};
+        if (!surface_.occluded(toward, {0.0, kInfinity}))
+            light += sky_.sunlight(sunIrradiance_, toSun_, wall->point.z) * float(cosSun);
+    }
+    return sky_.throughAir(kSolidBaseAlbedo * light, ray.dir, wall->t);
+}
+
+glm::vec3 TerrainShader::albedo(const HeightFieldHit& hit) const {
+    switch (look_.colouring) {
+    case TerrainLook::Colouring::Ramp: break;
+    case TerrainLook::Colouring::Plain: return look_.plain;
+    case TerrainLook::Colouring::Drape:
+        if (look_.drape)
+            return look_.drape->sample((double(hit.cellX) + hit.u) / double(grid_.cellsX()),
+                                       (double(hit.cellY) + hit.v) / double(grid_.cellsY()));
+        break;
+    }
+    return elevationAlbedo(hit.pointM.z, grid_.minHeightM(), grid_.maxHeightM());
+}
 
 glm::vec3 TerrainShader::hit(const HeightFieldHit& hit, const Ray& ray, int px, int py, int64_t& shadowRays,
                              int64_t& skyRays, int sample) const {
@@ -87,7 +145,7 @@ glm::vec3 TerrainShader::hit(const HeightFieldHit& hit, const Ray& ray, int px, 
         const glm::dvec3 smooth = smoothNormal(grid_, hit.cellX, hit.cellY, hit.u, hit.v);
         n = glm::dot(hit.normal, ray.dir) > 0.0 ? -smooth : smooth;
     }
-    const glm::vec3 albedo = elevationAlbedo(hit.pointM.z, grid_.minHeightM(), grid_.maxHeightM());
+    const glm::vec3 albedo = this->albedo(hit);
     glm::vec3 light{0.0f};
     if (const auto shadowRay = sunShadowRay(hit, ray.dir, sun_)) {
         ++shadowRays;

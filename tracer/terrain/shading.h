@@ -5,6 +5,7 @@
 
 #include "heightfield/geometry.h"
 #include "heightfield/height_grid.h"
+#include "tracer/scene/scene_assets.h"
 #include "tracer/sky/sky.h"
 #include "tracer/sky/sky_description.h"
 #include "tracer/terrain/surface.h"
@@ -12,7 +13,9 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <memory>
 #include <optional>
+#include <string_view>
 
 namespace terracast {
 
@@ -39,6 +42,28 @@ std::optional<Ray> sunShadowRay(const HeightFieldHit& hit, const glm::dvec3& ray
 glm::vec3 shadeTerrainHit(const HeightGrid& grid, const HeightFieldHit& hit, const glm::dvec3& rayDir, bool sunVisible,
                           const Sun& sun, float ambient);
 
+// What camera rays that meet nothing show.
+enum class Backdrop {
+    Neutral,  // a plain grey backdrop, lighter towards the horizon (the default for pictures)
+    Sky,      // the sky model above the horizon and the sky's colour at the horizon below it
+    Ground,   // the sky model in every direction: below the horizon, the Earth's ground seen through the air
+};
+std::optional<Backdrop> parseBackdrop(std::string_view name);
+
+// How the terrain looks besides its light: its colour, whether it stands on a solid base (solid_base.h), and
+// the backdrop.
+struct TerrainLook {
+    enum class Colouring { Ramp, Plain, Drape };
+    Colouring colouring = Colouring::Ramp;    // the elevation ramp (elevationAlbedo), one colour, or a drape
+    glm::vec3 plain{0.6f};                    // Plain: the albedo (linear RGB)
+    std::shared_ptr<const DrapeImage> drape;  // Drape: an image over the grid's footprint
+    bool solidBase = false;                   // walls from the grid's edges down to solidBaseFloorM
+    Backdrop backdrop = Backdrop::Ground;
+};
+
+// The albedo of the base's walls: a neutral earth colour.
+inline constexpr glm::vec3 kSolidBaseAlbedo{0.36f, 0.33f, 0.30f};
+
 // One hit's colour under a sky: direct sun (through the air with the physical sky), sky light from the open
 // part of the hemisphere (tested with sky-visibility rays when the sky asks for them), and aerial perspective
 // along the camera ray.
@@ -47,16 +72,20 @@ public:
     // `viewerAltitudeM` places the camera in the atmosphere; `seed` spreads the sky-visibility directions;
     // `smoothNormals` shades with the smooth normal (smoothNormal) rather than each cell's own.
     TerrainShader(const HeightGrid& grid, const TerrainSurface& surface, const Sun& sun, const SkyDescription& sky,
-                  double viewerAltitudeM, uint64_t seed, bool smoothNormals = true);
+                  double viewerAltitudeM, uint64_t seed, bool smoothNormals = true, TerrainLook look = {});
 
-    // What a camera ray that meets no terrain sees.
-    glm::vec3 miss(const glm::dvec3& dir) const { return sky_.radiance(dir); }
+    // What a camera ray that meets nothing sees: the backdrop.
+    glm::vec3 miss(const glm::dvec3& dir) const;
+    // The radiance of a camera ray that meets the solid base's wall (or none without a base, or when the ray
+    // meets no wall nearer than tMax); counts the shadow ray it traces.
+    std::optional<glm::vec3> base(const Ray& ray, double tMax, int64_t& shadowRays) const;
     // The radiance camera sample `sample` of pixel (px, py) brings back from `hit`; counts the rays it traces.
     // The pixel and sample pick the sky-visibility directions.
     glm::vec3 hit(const HeightFieldHit& hit, const Ray& ray, int px, int py, int64_t& shadowRays, int64_t& skyRays,
                   int sample = 0) const;
 
 private:
+    glm::vec3 albedo(const HeightFieldHit& hit) const;
     glm::vec3 skyLight(const HeightFieldHit& hit, const glm::dvec3& n, int px, int py, int sample,
                        int64_t& skyRays) const;
 
@@ -69,6 +98,8 @@ private:
     glm::dvec3 toSun_;
     glm::vec3 sunIrradiance_;
     Sky sky_;
+    TerrainLook look_;
+    double floorM_ = 0.0;
 };
 
 }  // namespace terracast

@@ -19,7 +19,7 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
                    RenderStats* stats) {
     const auto start = std::chrono::steady_clock::now();
     Film film(s.width, s.height);
-    const TerrainShader shader(grid, surface, s.sun, s.sky, s.camera.eyeM.z, s.seed, s.smoothNormals);
+    const TerrainShader shader(grid, surface, s.sun, s.sky, s.camera.eyeM.z, s.seed, s.smoothNormals, s.look);
 
     std::atomic<int64_t> primary{0}, shadow{0}, sky{0}, hits{0}, pixelsDone{0};
     std::mutex progressMutex;
@@ -37,6 +37,10 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
             traceCameraRays(surface, s.camera, s.width, s.height, x0, y0, x1, y1,
                             [&](int x, int y, const Ray& ray, const std::optional<HeightFieldHit>& hit) {
                                 ++nPrimary;
+                                if (const auto wall = shader.base(ray, hit ? hit->t : kInfinity, nShadow)) {
+                                    film.set(x, y, *wall);
+                                    return;
+                                }
                                 if (!hit) {
                                     film.set(x, y, shader.miss(ray.dir));
                                     return;
@@ -57,6 +61,7 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
                                  if (!ray) return glm::vec3(0.0f);  // outside a fisheye's circle: black
                                  ++nPrimary;
                                  const auto hit = surface.intersect(*ray, {0.0, kInfinity});
+                                 if (const auto wall = shader.base(*ray, hit ? hit->t : kInfinity, nShadow)) return *wall;
                                  if (!hit) return shader.miss(ray->dir);
                                  ++nHits;
                                  return shader.hit(*hit, *ray, x, y, nShadow, nSky, k);

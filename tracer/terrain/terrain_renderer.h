@@ -35,6 +35,7 @@ struct TerrainRenderSettings {
                                                // sky-visibility rays per hit
     uint64_t seed = 0;                         // for the sky-visibility directions
     bool smoothNormals = true;                 // shade with smooth normals (geometry and shadows unchanged)
+    TerrainLook look;                          // terrain colour, solid base, backdrop
     float ambient = 0.18f;                     // shadeTerrainHit's constant ambient, fraction of the sun's
     int threads = 0;                           // worker threads; 0 = all cores
     int tileSize = 32;                         // pixels per side of a work tile
