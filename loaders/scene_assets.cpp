@@ -50,10 +50,15 @@ GDALDatasetUniquePtr warpOntoDem(const std::string& path, GDALDataset& source, c
 
 }  // namespace
 
-DrapeImage loadDrape(const std::string& path, const GeoReference& dem, int64_t width, int64_t height) {
+namespace {
+
+// An RGB raster read as linear RGB, warped onto the DEM's lattice when `dem` and the raster are both
+// georeferenced, read at its own size otherwise.
+DrapeImage readLinearRgb(const std::string& path, const char* what, const GeoReference& dem, int64_t width,
+                         int64_t height) {
     registerGdalDrivers();
     QuietGdalErrors quiet;
-    checkInputFile(path, "a drape image");
+    checkInputFile(path, what);
     const ExitOnCancel interruptible;
     GDALDatasetUniquePtr dataset(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
     if (!dataset) throw InputError(path + ": not a raster GDAL can read");
@@ -86,6 +91,14 @@ DrapeImage loadDrape(const std::string& path, const GeoReference& dem, int64_t w
     }
     return image;
 }
+
+}  // namespace
+
+DrapeImage loadDrape(const std::string& path, const GeoReference& dem, int64_t width, int64_t height) {
+    return readLinearRgb(path, "a drape image", dem, width, height);
+}
+
+DrapeImage loadTexture(const std::string& path) { return readLinearRgb(path, "a texture image", GeoReference{}, 0, 0); }
 
 LoadedSceneAssets loadSceneAssets(const SceneDescription& scene, double maxBytes) {
     LoadedSceneAssets out;
@@ -122,6 +135,19 @@ LoadedSceneAssets loadSceneAssets(const SceneDescription& scene, double maxBytes
             out.assets.drapes.push_back(std::move(drape));
         } catch (const InputError& e) {
             throw InputError(where(scene, m.drapeWhere) + "drape: " + e.what());
+        }
+    }
+    for (const MaterialDescription& m : scene.materials) {
+        if (m.texturePath.empty()) {
+            out.assets.textures.push_back(nullptr);
+            continue;
+        }
+        try {
+            auto texture = std::make_shared<DrapeImage>(loadTexture(m.texturePath));
+            out.bytes += double(texture->rgb.size() * sizeof(float));
+            out.assets.textures.push_back(std::move(texture));
+        } catch (const InputError& e) {
+            throw InputError(where(scene, m.textureWhere) + "texture: " + e.what());
         }
     }
     return out;

@@ -33,4 +33,8 @@ std::vector<std::string> placeTimedSuns(SceneDescription& scene, const LoadedSce
 // `width` x `height` samples at the DEM's vertices, row 0 at the north edge.
 DrapeImage loadDrape(const std::string& path, const GeoReference& dem, int64_t width, int64_t height);
 
+// Reads an image texture (any raster GDAL reads: PNG, JPEG, TIFF; RGB or grey) at its own size as linear RGB:
+// 8-bit values are sRGB-encoded, others linear reflectance in [0, 1].
+DrapeImage loadTexture(const std::string& path);
+
 }  // namespace terracast

@@ -144,7 +144,8 @@ constexpr std::array<Choice<TerrainColouring>, 4> kTerrainColourings{{
 const std::vector<KeyRule> kMaterialKeys{
     {"name", {}},     {"color", {}}, {"kd", {}},         {"ks", {}},      {"exponent", {}},
     {"mirror", {}},   {"gloss", {}}, {"ior", {}},        {"ior_rgb", {}}, {"absorption", {}},
-    {"fresnel", {}},  {"terrain", {}}, {"drape", {}},
+    {"fresnel", {}},  {"terrain", {}}, {"drape", {}},    {"texture", {}}, {"checker", {}},
+    {"texture_scale", {}},
 };
 
 void parseDielectric(const TableReader& t, MaterialDescription& m) {
@@ -189,6 +190,24 @@ void parseTerrainColouring(const TomlFile& scene, const TableReader& t, Material
     }
 }
 
+void parseTexture(const TomlFile& scene, const TableReader& t, MaterialDescription& m) {
+    if (t.has("texture")) {
+        m.texturePath = scene.resolveConfined(t.valueWhere("texture"), "texture", *t.path("texture"), kAllowPathsFlag);
+        m.textureWhere = t.keyWhere("texture");
+        checkInputFile(t, "texture", m.texturePath);
+    }
+    if (const auto c = t.rgb("checker", kNonNegative, false)) {
+        if (!m.texturePath.empty()) t.fail(t.keyWhere("checker"), "checker: give either texture or checker, not both");
+        m.checker = true;
+        m.checkerColour = *c;
+    }
+    if (const auto scale = t.singleNumber("texture_scale", kPositive)) {
+        if (m.texturePath.empty() && !m.checker)
+            t.fail(t.keyWhere("texture_scale"), "texture_scale: applies only with texture or checker");
+        m.textureScale = *scale;
+    }
+}
+
 // Energy (docs/scene-format.md, "Energy"): the light a surface sends back, over all its terms, is at most what
 // it receives when kd x max(color) + ks + max(mirror) + (1 for a dielectric, whose Fresnel reflection and
 // transmission sum to one) is at most 1. The diffuse weight not given is the largest up to 1 that the other
@@ -196,7 +215,11 @@ void parseTerrainColouring(const TomlFile& scene, const TableReader& t, Material
 void balanceEnergy(const TableReader& t, MaterialDescription& m, std::vector<std::string>& warnings) {
     const float mirror = std::max({m.mirror.r, m.mirror.g, m.mirror.b});
     const float others = m.ks + mirror + (m.dielectric ? 1.0f : 0.0f);
-    const float colour = std::max({m.colour.r, m.colour.g, m.colour.b});
+    // A texture's values reach 1; a checker's two colours both show.
+    const float colour = !m.texturePath.empty() ? 1.0f
+                         : m.checker ? std::max({m.colour.r, m.colour.g, m.colour.b, m.checkerColour.r,
+                                                 m.checkerColour.g, m.checkerColour.b})
+                                     : std::max({m.colour.r, m.colour.g, m.colour.b});
     if (!t.has("kd")) m.kd = colour <= 1.0f - others ? 1.0f : std::max(0.0f, (1.0f - others) / colour);
     const double sum = double(m.kd) * colour + others;
     if (sum > 1.0 + 1e-6)
@@ -220,6 +243,7 @@ MaterialDescription parseMaterial(const TomlFile& scene, const TableReader& t, s
     if (const auto g = t.singleNumber("gloss", kNonNegative)) m.gloss = *g;
     parseDielectric(t, m);
     parseTerrainColouring(scene, t, m);
+    parseTexture(scene, t, m);
     balanceEnergy(t, m, warnings);
     return m;
 }

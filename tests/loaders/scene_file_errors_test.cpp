@@ -318,6 +318,12 @@ TEST_CASE("Scene file: a missing height-field file or drape raster is reported a
           "scene.toml:3:11: terrain: \"drape\" needs a raster to drape (drape = \"file.tif\")");
     CHECK(error("[[material]]\nname = \"photo\"\nterrain = \"slope\"\ndrape = \"ortho.tif\"\n") ==
           "scene.toml:4:1: drape: applies only with terrain = \"drape\", found terrain = \"slope\"");
+    CHECK(error("[[material]]\nname = \"globe\"\ntexture = \"missing-map.png\"\n") ==
+          "scene.toml:3:1: texture: " + folder.file("missing-map.png") + ": no such file");
+    CHECK(error("[[material]]\nname = \"board\"\ntexture_scale = 2\n") ==
+          "scene.toml:3:1: texture_scale: applies only with texture or checker");
+    CHECK(error("[[material]]\nname = \"board\"\nchecker = [0, 0, 0]\ntexture_scale = 0\n") ==
+          "scene.toml:4:17: texture_scale: expected a number > 0, found 0");
 }
 
 TEST_CASE("Scene file: arrays of the wrong length are refused", "[loaders]") {

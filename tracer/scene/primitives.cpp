@@ -80,14 +80,22 @@ bool SpherePrimitive::intersect(const Ray& ray, Interval interval, SurfaceHit& h
     hit.normal = glm::normalize(hit.point - centre_);
     hit.point = centre_ + radius_ * hit.normal;  // reprojected onto the sphere
     hit.errorM = pointError(hit.point, radius_);
-    hit.uv = {0.5 + std::atan2(hit.normal.y, hit.normal.x) / (2.0 * kPi), std::acos(std::clamp(hit.normal.z, -1.0, 1.0)) / kPi};
+    // u: longitude from +x (0.5 there), counter-clockwise; v: 0 at the south pole, 1 at the north pole.
+    hit.uv = {0.5 + std::atan2(hit.normal.y, hit.normal.x) / (2.0 * kPi),
+              1.0 - std::acos(std::clamp(hit.normal.z, -1.0, 1.0)) / kPi};
     return true;
 }
 
 Bounds3 SpherePrimitive::bounds() const { return {centre_ - glm::dvec3(radius_), centre_ + glm::dvec3(radius_)}; }
 
 PlanePrimitive::PlanePrimitive(const glm::dvec3& point, const glm::dvec3& normal)
-    : point_(point), normal_(glm::normalize(normal)) {}
+    : point_(point), normal_(glm::normalize(normal)) {
+    // u runs level across the plane (east on a level plane), v up its slope (north on a level plane).
+    const glm::dvec3 across = glm::cross(glm::dvec3(0.0, 0.0, 1.0), normal_);
+    uAxis_ = glm::dot(across, across) > 1e-12 ? glm::normalize(across) : glm::dvec3(1.0, 0.0, 0.0);
+    if (glm::dot(across, across) <= 1e-12 && normal_.z < 0.0) uAxis_ = {-1.0, 0.0, 0.0};
+    vAxis_ = glm::cross(normal_, uAxis_);
+}
 
 bool PlanePrimitive::intersect(const Ray& ray, Interval interval, SurfaceHit& hit) const {
     const double denom = glm::dot(ray.dir, normal_);
@@ -98,7 +106,7 @@ bool PlanePrimitive::intersect(const Ray& ray, Interval interval, SurfaceHit& hi
     hit.point = ray.at(t);
     hit.normal = normal_;
     hit.errorM = pointError(hit.point, maxAbs(point_));
-    hit.uv = {hit.point.x, hit.point.y};
+    hit.uv = {glm::dot(hit.point, uAxis_), glm::dot(hit.point, vAxis_)};
     return true;
 }
 

@@ -83,6 +83,7 @@ public:
 
 private:
     glm::dvec3 point_, normal_;
+    glm::dvec3 uAxis_, vAxis_;  // texture axes in the plane: east and north on a level plane
 };
 
 // A triangle; its outer side follows the right-hand rule on the vertex order.

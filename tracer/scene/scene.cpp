@@ -66,8 +66,9 @@ MaterialDescription defaultMaterial(ObjectKind kind) {
 }
 
 Scene::Scene(const SceneDescription& d, const SceneAssets& assets)
-    : materials_(d.materials), drapes_(assets.drapes), sky_(d.sky) {
+    : materials_(d.materials), drapes_(assets.drapes), textures_(assets.textures), sky_(d.sky) {
     drapes_.resize(materials_.size());
+    textures_.resize(materials_.size());
     for (const auto& m : materials_) hasDielectric_ = hasDielectric_ || m.dielectric;
 
     // Height fields first so that water can clip itself to the terrain's footprint whatever the order.
@@ -101,6 +102,7 @@ Scene::Scene(const SceneDescription& d, const SceneAssets& assets)
             if (material < 0) {
                 materials_.push_back(def);
                 drapes_.push_back(nullptr);
+                textures_.push_back(nullptr);
                 hasDielectric_ = hasDielectric_ || def.dielectric;
                 material = int(materials_.size() - 1);
             }

@@ -48,6 +48,7 @@ public:
     const std::vector<SceneObject>& objects() const { return objects_; }
     const std::vector<MaterialDescription>& materials() const { return materials_; }
     const std::vector<std::shared_ptr<const DrapeImage>>& drapes() const { return drapes_; }
+    const std::vector<std::shared_ptr<const DrapeImage>>& textures() const { return textures_; }
     const std::vector<SceneLight>& lights() const { return lights_; }
     const SkyDescription& sky() const { return sky_; }
     bool hasDielectric() const { return hasDielectric_; }
@@ -67,6 +68,7 @@ private:
     std::vector<SceneObject> objects_;
     std::vector<MaterialDescription> materials_;
     std::vector<std::shared_ptr<const DrapeImage>> drapes_;
+    std::vector<std::shared_ptr<const DrapeImage>> textures_;  // per material, as drapes_
     std::vector<SceneLight> lights_;
     SkyDescription sky_;
     std::vector<int32_t> bounded_;    // objects behind the BVH

@@ -6,12 +6,14 @@
 
 #include <glm/glm.hpp>
 
+#include <cmath>
 #include <memory>
 #include <vector>
 
 namespace terracast {
 
-// An RGB raster sampled over a height field's footprint (a draped orthophoto), row 0 at the north edge.
+// An RGB raster: a draped orthophoto over a height field's footprint (row 0 at the north edge), or a
+// material's image texture (row 0 at the top, at v = 1).
 struct DrapeImage {
     int width = 0;
     int height = 0;
@@ -19,6 +21,8 @@ struct DrapeImage {
 
     // Bilinear lookup at (u, v) in [0, 1]^2 over the footprint, v growing northward.
     glm::vec3 sample(double u, double v) const;
+    // The same lookup repeating the image: (u, v) taken modulo 1 (a texture tiles the surface).
+    glm::vec3 sampleRepeated(double u, double v) const { return sample(u - std::floor(u), v - std::floor(v)); }
 };
 
 // What a description names but cannot hold: loaded height grids (one per height-field object, in object
@@ -26,6 +30,7 @@ struct DrapeImage {
 struct SceneAssets {
     std::vector<std::shared_ptr<const HeightGrid>> grids;
     std::vector<std::shared_ptr<const DrapeImage>> drapes;
+    std::vector<std::shared_ptr<const DrapeImage>> textures;  // one per material, empty where none
 };
 
 }  // namespace terracast

@@ -38,8 +38,17 @@ struct MaterialDescription {
     // Terrain colouring (height fields only).
     TerrainColouring terrain = TerrainColouring::Elevation;
     std::string drapePath;             // RGB raster draped over the terrain (Drape), resolved to a usable path
+    // Surface textures (spheres, planes, boxes, triangles, polygons): an image or a checker of `colour` and
+    // `checkerColour`, repeating every `textureScale` units of the primitive's (u, v): metres on planes, boxes and
+    // polygons, barycentric weights on triangles, longitude and latitude in [0, 1]^2 on spheres
+    // (docs/scene-format.md, "Textures"). The texture gives the albedo.
+    std::string texturePath;           // image texture, resolved to a usable path; empty = none
+    bool checker = false;
+    glm::vec3 checkerColour{0.1f};     // the checker's second colour (linear RGB)
+    double textureScale = 1.0;
     SourceLocation where;
     SourceLocation drapeWhere;         // of the `drape` key, for file errors
+    SourceLocation textureWhere;       // of the `texture` key
 };
 
 enum class ObjectKind { HeightField, Sphere, Plane, Triangle, Polygon, Box, Water };

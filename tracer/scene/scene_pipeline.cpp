@@ -102,6 +102,8 @@ void renderSceneFile(const SceneRunOptions& o, const RunListener& listener) {
             if (obj.kind == ObjectKind::HeightField) checkNotInput(r.output, obj.filePath, "output path", "a height field's DEM");
         for (const auto& m : d.materials)
             if (!m.drapePath.empty()) checkNotInput(r.output, m.drapePath, "output path", "a material's drape");
+        for (const auto& m : d.materials)
+            if (!m.texturePath.empty()) checkNotInput(r.output, m.texturePath, "output path", "a material's texture");
     }
 
     const double limit = memoryLimitBytes(o.maxMemoryBytes);

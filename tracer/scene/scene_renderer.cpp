@@ -334,7 +334,16 @@ private:
     }
 
     glm::vec3 surfaceColour(const SceneObject& obj, const MaterialDescription& m, const SurfaceHit& hit) const {
-        if (obj.kind != ObjectKind::HeightField) return m.colour;
+        if (obj.kind != ObjectKind::HeightField) {
+            // Textures repeat every textureScale units of the primitive's (u, v).
+            const glm::dvec2 uv = hit.uv / m.textureScale;
+            if (const auto& texture = scene_.textures()[size_t(obj.material)]) return texture->sampleRepeated(uv.x, uv.y);
+            if (m.checker) {
+                const int64_t parity = int64_t(std::floor(uv.x)) + int64_t(std::floor(uv.y));
+                return (parity & 1) == 0 ? m.colour : m.checkerColour;
+            }
+            return m.colour;
+        }
         const auto* hf = static_cast<const HeightFieldPrimitive*>(obj.primitive.get());
         switch (m.terrain) {
         case TerrainColouring::Slope: return slopeAlbedo(hit.shadingNormal().z);
