@@ -98,6 +98,22 @@ DrapeImage loadDrape(const std::string& path, const GeoReference& dem, int64_t w
     return readLinearRgb(path, "a drape image", dem, width, height);
 }
 
+EnvironmentImage loadEnvironment(const std::string& path) {
+    RgbImage picture = readImage(path);
+    for (size_t k = 0; k < picture.rgb.size(); ++k)
+        if (!(std::isfinite(picture.rgb[k]) && picture.rgb[k] >= 0.0f)) {
+            const size_t pixel = k / 3;
+            throw InputError(fmt::format("{}: expected radiances >= 0 in every pixel, found {} at pixel ({}, {})",
+                                         path, picture.rgb[k], pixel % size_t(picture.width),
+                                         pixel / size_t(picture.width)));
+        }
+    EnvironmentImage image;
+    image.width = picture.width;
+    image.height = picture.height;
+    image.rgb = std::move(picture.rgb);
+    return image;
+}
+
 DrapeImage loadTexture(const std::string& path) { return readLinearRgb(path, "a texture image", GeoReference{}, 0, 0); }
 
 LoadedSceneAssets loadSceneAssets(const SceneDescription& scene, double maxBytes) {
@@ -135,6 +151,15 @@ LoadedSceneAssets loadSceneAssets(const SceneDescription& scene, double maxBytes
             out.assets.drapes.push_back(std::move(drape));
         } catch (const InputError& e) {
             throw InputError(where(scene, m.drapeWhere) + "drape: " + e.what());
+        }
+    }
+    if (scene.sky.kind == SkyKind::Image && !scene.sky.imagePath.empty()) {
+        try {
+            auto environment = std::make_shared<EnvironmentImage>(loadEnvironment(scene.sky.imagePath));
+            out.bytes += double(environment->rgb.size() * sizeof(float));
+            out.assets.environment = std::move(environment);
+        } catch (const InputError& e) {
+            throw InputError(where(scene, scene.sky.imageWhere) + "file: " + e.what());
         }
     }
     for (const MaterialDescription& m : scene.materials) {

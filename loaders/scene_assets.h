@@ -37,4 +37,9 @@ DrapeImage loadDrape(const std::string& path, const GeoReference& dem, int64_t w
 // 8-bit values are sRGB-encoded, others linear reflectance in [0, 1].
 DrapeImage loadTexture(const std::string& path);
 
+// Reads an equirectangular environment image (EXR or Radiance HDR: linear radiance; PNG and other 8-bit
+// files: sRGB) for `[sky] model = "image"`. Refuses a picture with a negative or non-finite value, naming
+// the pixel.
+EnvironmentImage loadEnvironment(const std::string& path);
+
 }  // namespace terracast

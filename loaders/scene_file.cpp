@@ -512,18 +512,21 @@ LightDescription parseLight(const TableReader& t) {
 
 constexpr int64_t kMaxSkySamples = 1024;
 
-const std::vector<Choice<SkyKind>> kSkyKinds = namedChoices(skyKinds(), skyKindName);
+const std::vector<Choice<SkyKind>> kSkyKinds = namedChoices(sceneSkyKinds(), skyKindName);
 
 const std::vector<KeyRule> kSkyKeys{
     {"model", {}},
     {"color", {"flat"}},
     {"haze", {"physical"}},
     {"aerial_perspective", {"physical"}},
-    {"ambient", {"physical", "gradient", "flat"}},
-    {"samples", {"physical", "gradient", "flat"}},
+    {"ambient", {"physical", "gradient", "flat", "image"}},
+    {"samples", {"physical", "gradient", "flat", "image"}},
+    {"file", {"image"}},
+    {"rotation", {"image"}},
+    {"intensity", {"image"}},
 };
 
-SkyDescription parseSky(const TableReader& t) {
+SkyDescription parseSky(const TomlFile& scene, const TableReader& t) {
     SkyDescription sky;
     sky.where = t.where();
     sky.kind = t.choice<SkyKind>("model", std::span<const Choice<SkyKind>>(kSkyKinds)).value_or(SkyKind::Physical);
@@ -534,6 +537,14 @@ SkyDescription parseSky(const TableReader& t) {
     if (const auto a = t.boolean("aerial_perspective")) sky.aerialPerspective = *a;
     if (const auto a = t.singleNumber("ambient", kNonNegative)) sky.ambient = *a;
     if (const auto n = t.integer("samples", 0, kMaxSkySamples)) sky.samples = static_cast<int>(*n);
+    if (sky.kind == SkyKind::Image) {
+        t.require("file", "for a sky of model \"image\" (an equirectangular EXR, HDR or PNG)");
+        sky.imagePath = scene.resolveConfined(t.valueWhere("file"), "file", *t.path("file"), kAllowPathsFlag);
+        sky.imageWhere = t.keyWhere("file");
+        checkInputFile(t, "file", sky.imagePath);
+        if (const auto r = t.number("rotation")) sky.rotationDeg = *r;
+        if (const auto i = t.singleNumber("intensity", kNonNegative)) sky.intensity = float(*i);
+    }
     return sky;
 }
 
@@ -685,7 +696,7 @@ SceneDescription parseSceneText(std::string_view text, const std::string& pathFo
     forEachTable(scene, root, "light",
                  [&](const TableReader& t, size_t) { description.lights.push_back(parseLight(t)); });
     if (const auto* sky = root.get_as<toml::table>("sky"))
-        description.sky = parseSky(TableReader(scene, *sky, "[sky]", SourceLocation{1, 1}));
+        description.sky = parseSky(scene, TableReader(scene, *sky, "[sky]", SourceLocation{1, 1}));
     if (const auto* render = root.get_as<toml::table>("render"))
         description.render = parseRender(scene, TableReader(scene, *render, "[render]", SourceLocation{1, 1}));
 

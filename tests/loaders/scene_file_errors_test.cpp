@@ -291,7 +291,7 @@ TEST_CASE("Scene file: an unknown material name is refused with a suggestion", "
           "scene.toml:3:12: material: no [[material]] is named \"steel\" (the scene defines no [[material]])");
 }
 
-TEST_CASE("Scene file: a missing height-field file or drape raster is reported at its key", "[loaders]") {
+TEST_CASE("Scene file: a missing height-field file, drape, texture or sky image is reported at its key", "[loaders]") {
     const SceneFolder folder;
     const auto error = [&](const std::string& text) -> std::string {
         try {
@@ -320,6 +320,13 @@ TEST_CASE("Scene file: a missing height-field file or drape raster is reported a
           "scene.toml:4:1: drape: applies only with terrain = \"drape\", found terrain = \"slope\"");
     CHECK(error("[[material]]\nname = \"globe\"\ntexture = \"missing-map.png\"\n") ==
           "scene.toml:3:1: texture: " + folder.file("missing-map.png") + ": no such file");
+    CHECK(error("[sky]\nmodel = \"image\"\n") ==
+          "scene.toml:1:1: missing required key 'file' for a sky of model \"image\" (an equirectangular EXR, HDR or "
+          "PNG)");
+    CHECK(error("[sky]\nmodel = \"image\"\nfile = \"missing-sky.exr\"\n") ==
+          "scene.toml:3:1: file: " + folder.file("missing-sky.exr") + ": no such file");
+    CHECK(error("[sky]\nmodel = \"physical\"\nrotation = 90\n") ==
+          "scene.toml:3:1: key 'rotation' does not apply to a sky of model \"physical\" (only to \"image\")");
     CHECK(error("[[material]]\nname = \"board\"\ntexture_scale = 2\n") ==
           "scene.toml:3:1: texture_scale: applies only with texture or checker");
     CHECK(error("[[material]]\nname = \"board\"\nchecker = [0, 0, 0]\ntexture_scale = 0\n") ==

@@ -69,6 +69,7 @@ Scene::Scene(const SceneDescription& d, const SceneAssets& assets)
     : materials_(d.materials), drapes_(assets.drapes), textures_(assets.textures), sky_(d.sky) {
     drapes_.resize(materials_.size());
     textures_.resize(materials_.size());
+    if (assets.environment) sky_.image = assets.environment;
     for (const auto& m : materials_) hasDielectric_ = hasDielectric_ || m.dielectric;
 
     // Height fields first so that water can clip itself to the terrain's footprint whatever the order.
@@ -132,7 +133,8 @@ Scene::Scene(const SceneDescription& d, const SceneAssets& assets)
         bvh_ = Bvh(boxes);
     }
 
-    const std::vector<LightDescription> defaults(1);
+    // A scene without lights gets one default sun, unless an environment image lights it.
+    const std::vector<LightDescription> defaults(d.sky.kind == SkyKind::Image ? 0 : 1);
     for (const auto& l : d.lights.empty() ? defaults : d.lights) {
         SceneLight light;
         light.kind = l.kind;

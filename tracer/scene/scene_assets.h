@@ -3,6 +3,7 @@
 #pragma once
 
 #include "heightfield/height_grid.h"
+#include "tracer/sky/environment.h"
 
 #include <glm/glm.hpp>
 
@@ -31,6 +32,7 @@ struct SceneAssets {
     std::vector<std::shared_ptr<const HeightGrid>> grids;
     std::vector<std::shared_ptr<const DrapeImage>> drapes;
     std::vector<std::shared_ptr<const DrapeImage>> textures;  // one per material, empty where none
+    std::shared_ptr<const EnvironmentImage> environment;      // the image sky's picture, when it has one
 };
 
 }  // namespace terracast

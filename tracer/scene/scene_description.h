@@ -122,7 +122,7 @@ struct SceneDescription {
     CameraDescription camera;
     std::vector<MaterialDescription> materials;
     std::vector<ObjectDescription> objects;
-    std::vector<LightDescription> lights;  // empty = one default sun
+    std::vector<LightDescription> lights;  // empty = one default sun (none under an image sky)
     SkyDescription sky;
     RenderDescription render;
     std::vector<std::string> warnings;  // what the file asks that is allowed but likely a mistake, one line each

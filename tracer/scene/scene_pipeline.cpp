@@ -104,6 +104,7 @@ void renderSceneFile(const SceneRunOptions& o, const RunListener& listener) {
             if (!m.drapePath.empty()) checkNotInput(r.output, m.drapePath, "output path", "a material's drape");
         for (const auto& m : d.materials)
             if (!m.texturePath.empty()) checkNotInput(r.output, m.texturePath, "output path", "a material's texture");
+        if (!d.sky.imagePath.empty()) checkNotInput(r.output, d.sky.imagePath, "output path", "the sky's image");
     }
 
     const double limit = memoryLimitBytes(o.maxMemoryBytes);

@@ -366,7 +366,7 @@ private:
     glm::vec3 skyLight(const SurfaceHit& hit, const glm::dvec3& n, int depth, const glm::vec3& weight, double time,
                        const glm::vec3& diffuse, size_t record) {
         if (sky_.ambientScale() <= 0.0f) return glm::vec3(0.0f);
-        const glm::vec3 open = sky_.ambient(n.z);
+        const glm::vec3 open = sky_.ambient(n);
         const int count = scene_.sky().samples;
         if (count <= 0) {
             if (tree_) (*tree_)[record].skyLight = diffuse * open;

@@ -4,6 +4,7 @@
 
 #include "tracer/sampling/warps.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <mutex>
@@ -52,6 +53,7 @@ Sky::Sky(const SkyDescription& description, const std::optional<SkySun>& sun, do
         }
     }
     ambientScale_ = d_.kind == SkyKind::None ? 0.0f : d_.ambientScale();
+    if (d_.kind == SkyKind::Image && d_.image) buildIrradianceTable();
     // The cosine-weighted mean radiance of the upper hemisphere, on a 16 x 16 stratified grid.
     glm::dvec3 sum(0.0);
     constexpr int n = 16;
@@ -60,8 +62,68 @@ Sky::Sky(const SkyDescription& description, const std::optional<SkySun>& sun, do
     hemisphereMean_ = glm::vec3(sum / double(n * n));
 }
 
+void Sky::buildIrradianceTable() {
+    // For each normal n of the table, the sum over the picture's pixels of radiance x max(0, n . direction) x the
+    // pixel's solid angle, over pi: the irradiance over pi, which times a diffuse albedo is the light the surface
+    // sends back. Summing pixels rather than sampling directions keeps a small bright sun from aliasing. The
+    // picture is first averaged down to at most 256 x 128 (block means keep its energy).
+    const EnvironmentImage& image = *d_.image;
+    const int bx = std::max(1, (image.width + 255) / 256), by = std::max(1, (image.height + 127) / 128);
+    const int w = (image.width + bx - 1) / bx, h = (image.height + by - 1) / by;
+    std::vector<glm::dvec3> dirs, weighted;  // per coarse pixel: direction, radiance x solid angle / pi
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+            glm::dvec3 sum(0.0);
+            int count = 0;
+            for (int y = j * by; y < std::min((j + 1) * by, image.height); ++y)
+                for (int x = i * bx; x < std::min((i + 1) * bx, image.width); ++x, ++count) {
+                    const size_t k = (size_t(y) * size_t(image.width) + size_t(x)) * 3;
+                    sum += glm::dvec3(image.rgb[k], image.rgb[k + 1], image.rgb[k + 2]);
+                }
+            // The block's centre and extent in the picture (the last block may be narrower).
+            const double x0 = double(i * bx), x1 = double(std::min((i + 1) * bx, image.width));
+            const double y0 = double(j * by), y1 = double(std::min((j + 1) * by, image.height));
+            const double u = 0.5 * (x0 + x1) / image.width + d_.rotationDeg / 360.0;
+            const double theta0 = y0 / image.height * kPi, theta1 = y1 / image.height * kPi;
+            const double azimuth = (u - 0.5) * 2.0 * kPi, theta = 0.5 * (theta0 + theta1);
+            const double solidAngle = (x1 - x0) / image.width * 2.0 * kPi * (std::cos(theta0) - std::cos(theta1));
+            dirs.push_back({std::sin(theta) * std::sin(azimuth), std::sin(theta) * std::cos(azimuth), std::cos(theta)});
+            weighted.push_back(double(d_.intensity) * sum / double(count) * solidAngle / kPi);
+        }
+    irradiance_.assign(size_t(kIrradianceWidth) * kIrradianceHeight, glm::vec3(0.0f));
+    for (int j = 0; j < kIrradianceHeight; ++j)
+        for (int i = 0; i < kIrradianceWidth; ++i) {
+            const double azimuth = ((i + 0.5) / kIrradianceWidth - 0.5) * 2.0 * kPi;
+            const double fromZenith = (j + 0.5) / kIrradianceHeight * kPi;
+            const glm::dvec3 normal{std::sin(fromZenith) * std::sin(azimuth), std::sin(fromZenith) * std::cos(azimuth),
+                                    std::cos(fromZenith)};
+            glm::dvec3 e(0.0);
+            for (size_t p = 0; p < dirs.size(); ++p) e += std::max(0.0, glm::dot(normal, dirs[p])) * weighted[p];
+            irradiance_[size_t(j) * kIrradianceWidth + size_t(i)] = glm::vec3(e);
+        }
+}
+
+glm::vec3 Sky::ambient(const glm::dvec3& n) const {
+    if (irradiance_.empty()) return ambient(n.z);
+    // The table's layout is the environment's (environmentCoordinates), without the image's rotation: the
+    // table was built from radiance(), which applies it.
+    const glm::dvec2 uv = environmentCoordinates(n);
+    const double x = uv.x * kIrradianceWidth - 0.5;
+    const double y = std::clamp(uv.y * kIrradianceHeight - 0.5, 0.0, double(kIrradianceHeight - 1));
+    const int x0 = int(std::floor(x)), y0 = int(y), y1 = std::min(y0 + 1, kIrradianceHeight - 1);
+    const float fx = float(x - x0), fy = float(y - y0);
+    const auto at = [&](int i, int j) {
+        i = ((i % kIrradianceWidth) + kIrradianceWidth) % kIrradianceWidth;
+        return irradiance_[size_t(j) * kIrradianceWidth + size_t(i)];
+    };
+    return ambientScale_ *
+           glm::mix(glm::mix(at(x0, y0), at(x0 + 1, y0), fx), glm::mix(at(x0, y1), at(x0 + 1, y1), fx), fy);
+}
+
 glm::vec3 Sky::radiance(const glm::dvec3& dir) const {
     switch (d_.kind) {
+    case SkyKind::Image:
+        return d_.image ? d_.intensity * environmentRadiance(*d_.image, dir, d_.rotationDeg) : glm::vec3(0.0f);
     case SkyKind::None: return glm::vec3(0.0f);
     case SkyKind::Flat: return d_.colour;
     case SkyKind::Gradient: return gradientSky(dir);

@@ -11,6 +11,7 @@
 
 #include <memory>
 #include <optional>
+#include <vector>
 
 namespace terracast {
 
@@ -68,10 +69,16 @@ public:
     // Sky light on a surface of normal z-component `normalZ` with the whole sky open: the cosine-weighted mean
     // radiance of the upper hemisphere, times the ambient scale, fading on tilted surfaces (half on a wall).
     glm::vec3 ambient(double normalZ) const { return ambientScale_ * float(0.5 + 0.5 * normalZ) * hemisphereMean_; }
+    // Sky light on a surface of unit normal `n` with the whole sky open. An environment image is lit from every
+    // side differently: the cosine-weighted mean of its radiance over the hemisphere about n, from a table over
+    // normal directions. The other skies depend on n.z alone (ambient(n.z)).
+    glm::vec3 ambient(const glm::dvec3& n) const;
     // The ambient scale alone (sky light = scale x mean radiance of the open sky directions).
     float ambientScale() const { return ambientScale_; }
 
 private:
+    void buildIrradianceTable();
+
     SkyDescription d_;
     double viewerAltitudeM_ = 0.0;
     std::shared_ptr<const TransmittanceTable> transmittance_;
@@ -80,6 +87,10 @@ private:
     glm::vec3 whiteBalance_{1.0f};  // physical: 1 / transmittance of a zenith sun at sea level
     float ambientScale_ = 0.0f;
     glm::vec3 hemisphereMean_{0.0f};
+    // Image: the cosine-weighted mean radiance about each normal of a kIrradianceWidth x kIrradianceHeight
+    // equirectangular grid of normals (the environment's own layout).
+    static constexpr int kIrradianceWidth = 64, kIrradianceHeight = 32;
+    std::vector<glm::vec3> irradiance_;
 };
 
 }  // namespace terracast

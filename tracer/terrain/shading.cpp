@@ -112,7 +112,7 @@ std::optional<glm::vec3> TerrainShader::base(const Ray& ray, double tMax, int64_
     const auto wall = intersectSolidBase(grid_, floorM_, ray, tMax);
     if (!wall) return std::nullopt;
     // Lambert under the sun (unless the terrain shadows the wall) and the sky light a wall receives.
-    glm::vec3 light = sky_.ambient(0.0);
+    glm::vec3 light = sky_.ambient(wall->normal);
     const double cosSun = glm::dot(wall->normal, toSun_);
     if (cosSun > 0.0 && toSun_.z > -1.0) {
         ++shadowRays;
@@ -161,7 +161,7 @@ glm::vec3 TerrainShader::hit(const HeightFieldHit& hit, const Ray& ray, int px, 
 glm::vec3 TerrainShader::skyLight(const HeightFieldHit& hit, const glm::dvec3& n, int px, int py, int sample,
                                   int64_t& skyRays) const {
     if (sky_.ambientScale() <= 0.0f) return glm::vec3(0.0f);
-    const glm::vec3 open = sky_.ambient(n.z);
+    const glm::vec3 open = sky_.ambient(n);
     const int count = skySamples_;
     if (count <= 0) return open;
     skyRays += count;
