@@ -33,20 +33,18 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
     const double aspect = double(s.width) / double(s.height);
     const auto renderTile = [&](int x0, int y0, int x1, int y1) {
         int64_t nPrimary = 0, nShadow = 0, nSky = 0, nHits = 0;
+        // What camera sample k of pixel (x, y) brings back: the base's wall in front, the terrain, or the backdrop.
+        const auto radiance = [&](const Ray& ray, const std::optional<HeightFieldHit>& hit, int x, int y, int k) {
+            ++nPrimary;
+            if (const auto wall = shader.base(ray, hit ? hit->t : kInfinity, nShadow)) return *wall;
+            if (!hit) return shader.miss(ray.dir);
+            ++nHits;
+            return shader.hit(*hit, ray, x, y, nShadow, nSky, k);
+        };
         if (centresOnly) {
             traceCameraRays(surface, s.camera, s.width, s.height, x0, y0, x1, y1,
                             [&](int x, int y, const Ray& ray, const std::optional<HeightFieldHit>& hit) {
-                                ++nPrimary;
-                                if (const auto wall = shader.base(ray, hit ? hit->t : kInfinity, nShadow)) {
-                                    film.set(x, y, *wall);
-                                    return;
-                                }
-                                if (!hit) {
-                                    film.set(x, y, shader.miss(ray.dir));
-                                    return;
-                                }
-                                ++nHits;
-                                film.set(x, y, shader.hit(*hit, ray, x, y, nShadow, nSky));
+                                film.set(x, y, radiance(ray, hit, x, y, 0));
                             });
         } else {
             for (int y = y0; y < y1; ++y)
@@ -59,12 +57,7 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
                                  const std::optional<Ray> ray =
                                      s.view ? s.view->generate(fx, fy) : std::optional<Ray>(s.camera.generate(fx, fy, aspect));
                                  if (!ray) return glm::vec3(0.0f);  // outside a fisheye's circle: black
-                                 ++nPrimary;
-                                 const auto hit = surface.intersect(*ray, {0.0, kInfinity});
-                                 if (const auto wall = shader.base(*ray, hit ? hit->t : kInfinity, nShadow)) return *wall;
-                                 if (!hit) return shader.miss(ray->dir);
-                                 ++nHits;
-                                 return shader.hit(*hit, *ray, x, y, nShadow, nSky, k);
+                                 return radiance(*ray, surface.intersect(*ray, {0.0, kInfinity}), x, y, k);
                              }));
                 }
         }
