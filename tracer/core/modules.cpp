@@ -12,8 +12,10 @@ std::string modulePath(const char* env, const std::string& builtPath) {
     if (const char* value = std::getenv(env); value && *value) return value;
     std::error_code ec;
     if (std::filesystem::exists(builtPath, ec)) return builtPath;
-    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
     const std::string name = std::filesystem::path(builtPath).filename().string();
+    const std::filesystem::path installed = std::filesystem::path(TERRACAST_MODULE_INSTALL_DIR) / name;
+    if (std::filesystem::exists(installed, ec)) return installed.string();
+    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
     return ec ? name : (self.parent_path() / name).string();
 }
 

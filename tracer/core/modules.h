@@ -7,7 +7,8 @@
 namespace terracast {
 
 // Where a module is: the environment variable `env` when it is set, else `builtPath` (the build's own) when it
-// is still there, else the file of that name beside the executable.
+// is still there, else the file of that name where `cmake --install` puts it (lib/terracast under the configured
+// prefix), else beside the executable.
 std::string modulePath(const char* env, const std::string& builtPath);
 
 // Opens the module at `path` (its symbols global for the libraries it opens in turn when `global`) and returns
