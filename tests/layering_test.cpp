@@ -48,7 +48,9 @@ const std::vector<Rule>& rules() {
             {"tracer/scene/", with(base, {"tracer/scene/", "tracer/terrain/", "loaders/"})},
             {"tracer/measure/", with(base, {"tracer/measure/", "tracer/terrain/", "loaders/"})},
             {"cli/", with(base, {"tracer/", "loaders/", "cli/"})},
+            {"python/", with(base, {"tracer/", "loaders/"})},
             {"bench/", {"*"}},
+            {"examples/", {"*"}},
             {"fuzz/", {"*"}},
             {"tests/", {"*"}},
         };
@@ -68,7 +70,7 @@ const std::vector<Confinement>& confinements() {
         {"ogr_", {"loaders/", "tests/"}},          {"OpenImageIO/", {"loaders/", "tests/"}},
         {"toml++/", {"loaders/", "tests/"}},       {"embree3/", {"tracer/terrain/embree_terrain.cpp", "tests/"}},
         {"CLI/", {"cli/"}},                        {"catch2/", {"tests/"}},
-        {"benchmark/", {"bench/"}},
+        {"benchmark/", {"bench/"}},               {"pybind11/", {"python/"}},
     };
     return c;
 }
@@ -114,7 +116,7 @@ TEST_CASE("Layering: every include of the tree follows the allowed graph", "[lay
     const fs::path root(TERRACAST_SOURCE_DIR);
     std::vector<std::string> errors;
     size_t files = 0;
-    for (const char* top : {"heightfield", "tracer", "loaders", "cli", "bench", "fuzz", "tests"})
+    for (const char* top : {"heightfield", "tracer", "loaders", "cli", "python", "bench", "fuzz", "tests", "examples"})
         for (const auto& entry : fs::recursive_directory_iterator(root / top)) {
             const std::string ext = entry.path().extension().string();
             if (!entry.is_regular_file() || (ext != ".h" && ext != ".cpp")) continue;
