@@ -191,7 +191,10 @@ std::unique_ptr<PyHeightField> fromArray(const py::array& heights, const py::obj
 }
 
 std::unique_ptr<PyHeightField> openFile(const std::string& path, double cellSize, double heightScale) {
-    if (!std::filesystem::exists(path)) throw py::value_error(path + ": no such file");
+    if (!std::filesystem::exists(path)) {
+        PyErr_SetString(PyExc_FileNotFoundError, (path + ": no such file").c_str());
+        throw py::error_already_set();
+    }
     DemLoadOptions options;
     options.imageCellSizeM = cellSize;
     options.imageHeightScale = heightScale;
@@ -233,7 +236,8 @@ PYBIND11_MODULE(_core, m) {
                     "Reads a DEM (GeoTIFF, .hgt, anything GDAL reads, or an 8/16-bit PNG height map).\n\n"
                     "cell_size: metres between samples of a raster without georeference (default 1).\n"
                     "height_scale: metres per stored unit of a PNG height map (default 1).\n"
-                    "Raises ValueError naming the file and the problem.")
+                    "Raises FileNotFoundError (an OSError) for a missing file, ValueError naming the file and the\n"
+                    "problem for one that is not a readable DEM.")
         .def_static("from_array", &fromArray, py::arg("heights"), py::arg("cell_size") = py::none(),
                     py::arg("nodata") = py::none(), py::arg("transform") = py::none(), py::arg("crs") = "",
                     "A height field from a 2-D NumPy array (int16, uint16, float32 or float64; C or Fortran "

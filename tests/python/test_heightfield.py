@@ -113,8 +113,10 @@ def test_a_dem_file_matches_gdals_reading_of_it():
     assert hf.nodata_count == int((values == band.GetNoDataValue()).sum())
     valid = values[values != band.GetNoDataValue()]
     assert hf.min_height == pytest.approx(valid.min()) and hf.max_height == pytest.approx(valid.max())
-    with pytest.raises(ValueError, match="no such file"):
+    with pytest.raises(FileNotFoundError, match="no such file"):
         terracast.HeightField.open(os.path.join(SAMPLES, "missing.tif"))
+    with pytest.raises(ValueError, match="README.md"):
+        terracast.HeightField.open(os.path.join(SAMPLES, "README.md"))
 
 
 def test_exact_and_embree_agree_on_a_real_dem_and_occlusion_matches_hits():
