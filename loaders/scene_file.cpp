@@ -127,6 +127,15 @@ void checkInputFile(const TableReader& t, std::string_view key, const std::strin
         t.fail(where, fmt::format("{}: {}: cannot be accessed ({})", key, printable(path, std::string::npos), ec.message()));
 }
 
+// The file a key names (a height field's DEM, a drape, a texture, a sky image): resolved against the scene's
+// folder (confined to it unless --allow-paths), checked to exist, and the key's location kept for later errors.
+std::string inputFile(const TomlFile& scene, const TableReader& t, std::string_view key, SourceLocation& where) {
+    std::string path = scene.resolveConfined(t.valueWhere(key), key, *t.path(key), kAllowPathsFlag);
+    where = t.keyWhere(key);
+    checkInputFile(t, key, path);
+    return path;
+}
+
 // ---- Materials ----
 
 constexpr std::array<Choice<FresnelModel>, 2> kFresnelModels{{
@@ -178,9 +187,7 @@ void parseTerrainColouring(const TomlFile& scene, const TableReader& t, Material
                                                     quoteString(choiceName<TerrainColouring>(kTerrainColourings,
                                                                                              *colouring))));
         m.terrain = TerrainColouring::Drape;
-        m.drapePath = scene.resolveConfined(t.valueWhere("drape"), "drape", *t.path("drape"), kAllowPathsFlag);
-        m.drapeWhere = t.keyWhere("drape");
-        checkInputFile(t, "drape", m.drapePath);
+        m.drapePath = inputFile(scene, t, "drape", m.drapeWhere);
     } else if (colouring == TerrainColouring::Drape) {
         t.fail(t.valueWhere("terrain"), "terrain: \"drape\" needs a raster to drape (drape = \"file.tif\")");
     } else if (colouring) {
@@ -192,9 +199,7 @@ void parseTerrainColouring(const TomlFile& scene, const TableReader& t, Material
 
 void parseTexture(const TomlFile& scene, const TableReader& t, MaterialDescription& m) {
     if (t.has("texture")) {
-        m.texturePath = scene.resolveConfined(t.valueWhere("texture"), "texture", *t.path("texture"), kAllowPathsFlag);
-        m.textureWhere = t.keyWhere("texture");
-        checkInputFile(t, "texture", m.texturePath);
+        m.texturePath = inputFile(scene, t, "texture", m.textureWhere);
     }
     if (const auto c = t.rgb("checker", kNonNegative, false)) {
         if (!m.texturePath.empty()) t.fail(t.keyWhere("checker"), "checker: give either texture or checker, not both");
@@ -286,9 +291,7 @@ const std::vector<KeyRule> kObjectKeys{
 void parseHeightField(const TomlFile& scene, const TableReader& t, const std::string& subject,
                       ObjectDescription& o) {
     t.require("file", subject);
-    o.filePath = scene.resolveConfined(t.valueWhere("file"), "file", *t.path("file"), kAllowPathsFlag);
-    o.fileWhere = t.keyWhere("file");
-    checkInputFile(t, "file", o.filePath);
+    o.filePath = inputFile(scene, t, "file", o.fileWhere);
     if (const auto offset = t.vector3("offset")) o.offsetM = *offset;
     if (const auto k = t.number("exaggeration", kPositive)) o.exaggeration = *k;
     static const auto methods = namedChoices(surfaceMethods(), surfaceMethodName);
@@ -539,9 +542,7 @@ SkyDescription parseSky(const TomlFile& scene, const TableReader& t) {
     if (const auto n = t.integer("samples", 0, kMaxSkySamples)) sky.samples = static_cast<int>(*n);
     if (sky.kind == SkyKind::Image) {
         t.require("file", "for a sky of model \"image\" (an equirectangular EXR, HDR or PNG)");
-        sky.imagePath = scene.resolveConfined(t.valueWhere("file"), "file", *t.path("file"), kAllowPathsFlag);
-        sky.imageWhere = t.keyWhere("file");
-        checkInputFile(t, "file", sky.imagePath);
+        sky.imagePath = inputFile(scene, t, "file", sky.imageWhere);
         if (const auto r = t.number("rotation")) sky.rotationDeg = *r;
         if (const auto i = t.singleNumber("intensity", kNonNegative)) sky.intensity = float(*i);
     }

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -36,7 +37,7 @@ public:
     const std::string& crs() const { return crs_; }
 
     const TerrainSurface& surface(SurfaceMethod method) {
-        auto& s = surfaces_[size_t(method)];
+        auto& s = surfaces_[method];
         if (!s) s = std::make_unique<TerrainSurface>(*grid_, method);
         return *s;
     }
@@ -44,7 +45,7 @@ public:
 private:
     std::shared_ptr<HeightGrid> grid_;
     std::string source_, crs_;
-    std::unique_ptr<TerrainSurface> surfaces_[16];
+    std::map<SurfaceMethod, std::unique_ptr<TerrainSurface>> surfaces_;
 };
 
 SurfaceMethod methodOf(const std::string& name) {

@@ -105,19 +105,11 @@ void Sky::buildIrradianceTable() {
 
 glm::vec3 Sky::ambient(const glm::dvec3& n) const {
     if (irradiance_.empty()) return ambient(n.z);
-    // The table's layout is the environment's (environmentCoordinates), without the image's rotation: the
-    // table was built from radiance(), which applies it.
-    const glm::dvec2 uv = environmentCoordinates(n);
-    const double x = uv.x * kIrradianceWidth - 0.5;
-    const double y = std::clamp(uv.y * kIrradianceHeight - 0.5, 0.0, double(kIrradianceHeight - 1));
-    const int x0 = int(std::floor(x)), y0 = int(y), y1 = std::min(y0 + 1, kIrradianceHeight - 1);
-    const float fx = float(x - x0), fy = float(y - y0);
-    const auto at = [&](int i, int j) {
-        i = ((i % kIrradianceWidth) + kIrradianceWidth) % kIrradianceWidth;
-        return irradiance_[size_t(j) * kIrradianceWidth + size_t(i)];
-    };
-    return ambientScale_ *
-           glm::mix(glm::mix(at(x0, y0), at(x0 + 1, y0), fx), glm::mix(at(x0, y1), at(x0 + 1, y1), fx), fy);
+    // The table's layout is the environment's (environmentCoordinates) over world normals: the image's rotation
+    // was applied when it was built.
+    return ambientScale_ * sampleLatLong(kIrradianceWidth, kIrradianceHeight, environmentCoordinates(n), [&](int i, int j) {
+               return irradiance_[size_t(j) * kIrradianceWidth + size_t(i)];
+           });
 }
 
 glm::vec3 Sky::radiance(const glm::dvec3& dir) const {
