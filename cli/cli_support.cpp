@@ -185,25 +185,6 @@ std::optional<PinholeCamera> parseCameraOption(const std::string& text, bool fis
     return camera;
 }
 
-std::optional<glm::vec3> parseHexColour(const std::string& text) {
-    if (text.size() != 7 || text[0] != '#') return std::nullopt;
-    glm::vec3 linear{0.0f};
-    for (int c = 0; c < 3; ++c) {
-        unsigned value = 0;
-        for (int k = 0; k < 2; ++k) {
-            const char ch = text[size_t(1 + 2 * c + k)];
-            const int digit = ch >= '0' && ch <= '9' ? ch - '0'
-                            : ch >= 'a' && ch <= 'f' ? ch - 'a' + 10
-                            : ch >= 'A' && ch <= 'F' ? ch - 'A' + 10
-                                                     : -1;
-            if (digit < 0) return std::nullopt;
-            value = value * 16 + unsigned(digit);
-        }
-        linear[c] = linearFromSrgb(float(value) / 255.0f);
-    }
-    return linear;
-}
-
 UtcInstant parseSunTimeOption(const std::string& text) {
     std::string why;
     const auto utc = parseIsoTime(text, why);

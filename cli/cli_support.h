@@ -72,8 +72,6 @@ E parseNamedOption(const std::string& text, const char* option, std::optional<E>
     throw InputError(option + std::string(": expected one of ") + list + ", found '" + text + "'");
 }
 std::optional<PinholeCamera> parseCameraOption(const std::string& text, bool fisheye = false);  // empty text: none
-// "#rrggbb" (sRGB, as web colours are written) as linear RGB; none for anything else.
-std::optional<glm::vec3> parseHexColour(const std::string& text);
 UtcInstant parseSunTimeOption(const std::string& text);
 // X,Y pixel indices.
 void parsePixelOption(const std::string& text, const char* option, int& x, int& y);

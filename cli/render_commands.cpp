@@ -1,6 +1,7 @@
 // `info` and `render`: option parsing into typed values; the work is demInfoReport and renderDem.
 #include "cli/cli_support.h"
 
+#include "loaders/image_io.h"
 #include "tracer/core/errors.h"
 
 #include <fmt/core.h>

@@ -105,18 +105,9 @@ bool isDefaultGeoTransform(const double gt[6]) {
     return gt[0] == 0.0 && gt[1] == 1.0 && gt[2] == 0.0 && gt[3] == 0.0 && gt[4] == 0.0 && std::abs(gt[5]) == 1.0;
 }
 
-// Reads the dataset's geotransform and CRS into `geo` and returns the metric lattice.
-Lattice georeference(const std::string& path, GDALDataset& dataset, const DemLoadOptions& options,
-                     GeoReference& geo, std::vector<std::string>& warnings) {
-    const int64_t width = dataset.GetRasterXSize();
-    const int64_t height = dataset.GetRasterYSize();
-    double gt[6] = {0, 1, 0, 0, 0, 1};
-    if (dataset.GetGeoTransform(gt) != CE_None || isDefaultGeoTransform(gt)) {
-        // Without a geotransform the raster is a picture: row 0 at the top, samples a fixed distance apart.
-        warnings.push_back(fmt::format("{}: no geotransform, assuming {} m between samples", path,
-                                       options.imageCellSizeM));
-        return {options.imageCellSizeM, options.imageCellSizeM, true, false};
-    }
+// A width x height raster's geotransform and CRS (null or empty: none) into `geo`, and its metric lattice.
+Lattice placeRaster(const std::string& path, const double gt[6], const OGRSpatialReference* srs, int64_t width,
+                    int64_t height, GeoReference& geo, std::vector<std::string>& warnings) {
     for (int k = 0; k < 6; ++k)
         if (!std::isfinite(gt[k]) || std::abs(gt[k]) > 1e15)
             throw InputError(fmt::format("{}: geotransform term {} is {}, expected a finite coordinate within 1e15",
@@ -130,10 +121,6 @@ Lattice georeference(const std::string& path, GDALDataset& dataset, const DemLoa
 
     std::copy(gt, gt + 6, geo.geoTransform);
     geo.georeferenced = true;
-    // GDAL reports a pixel-is-point raster's geotransform in the pixel-is-area convention already; the flag only
-    // travels to the outputs, so that they declare what the source declares.
-    const char* areaOrPoint = dataset.GetMetadataItem(GDALMD_AREA_OR_POINT);
-    geo.pixelIsPoint = areaOrPoint != nullptr && EQUAL(areaOrPoint, GDALMD_AOP_POINT);
     Lattice lattice;
     lattice.flipRows = gt[5] < 0.0;
     lattice.flipColumns = gt[1] < 0.0;
@@ -145,7 +132,6 @@ Lattice georeference(const std::string& path, GDALDataset& dataset, const DemLoa
 
     const double pixelX = std::abs(gt[1]);
     const double pixelY = std::abs(gt[5]);
-    const OGRSpatialReference* srs = dataset.GetSpatialRef();
     if (srs == nullptr || srs->IsEmpty()) {
         warnings.push_back(path + ": no CRS, assuming metres");
         lattice.cellSizeXM = pixelX;
@@ -201,6 +187,24 @@ Lattice georeference(const std::string& path, GDALDataset& dataset, const DemLoa
     lattice.cellSizeXM = pixelX * metresPerUnit;
     lattice.cellSizeYM = pixelY * metresPerUnit;
     return lattice;
+}
+
+// Reads the dataset's geotransform and CRS into `geo` and returns the metric lattice.
+Lattice georeference(const std::string& path, GDALDataset& dataset, const DemLoadOptions& options,
+                     GeoReference& geo, std::vector<std::string>& warnings) {
+    double gt[6] = {0, 1, 0, 0, 0, 1};
+    if (dataset.GetGeoTransform(gt) != CE_None || isDefaultGeoTransform(gt)) {
+        // Without a geotransform the raster is a picture: row 0 at the top, samples a fixed distance apart.
+        warnings.push_back(fmt::format("{}: no geotransform, assuming {} m between samples", path,
+                                       options.imageCellSizeM));
+        return {options.imageCellSizeM, options.imageCellSizeM, true, false};
+    }
+    // GDAL reports a pixel-is-point raster's geotransform in the pixel-is-area convention already; the flag only
+    // travels to the outputs, so that they declare what the source declares.
+    const char* areaOrPoint = dataset.GetMetadataItem(GDALMD_AREA_OR_POINT);
+    geo.pixelIsPoint = areaOrPoint != nullptr && EQUAL(areaOrPoint, GDALMD_AOP_POINT);
+    return placeRaster(path, gt, dataset.GetSpatialRef(), dataset.GetRasterXSize(), dataset.GetRasterYSize(), geo,
+                       warnings);
 }
 
 // Refuses a band whose storage blocks are absurd for its raster. GDAL allocates one whole block (all bands of it
@@ -640,9 +644,37 @@ LoadedDem exaggerated(LoadedDem dem, double k) {
 
 }  // namespace
 
+LoadedDem exaggeratedDem(LoadedDem dem, double k) {
+    checkExaggeration(dem.path, k);
+    if (k != 1.0 && dem.grid.tiled())
+        throw InputError(fmt::format("{}: a DEM held as tiles is exaggerated as its tiles are read; load it with "
+                                     "DemLoadOptions::exaggeration", dem.path));
+    return exaggerated(std::move(dem), k);
+}
+
 LoadedDem loadDem(const std::string& path, const DemLoadOptions& options) {
     checkExaggeration(path, options.exaggeration);
     return exaggerated(loadAsStored(path, options), options.exaggeration);
+}
+
+ArrayPlacement placeArray(const std::string& name, const double gt[6], const std::string& crs, int64_t width,
+                          int64_t height) {
+    registerGdalDrivers();
+    ArrayPlacement out;
+    OGRSpatialReference srs;
+    if (!crs.empty()) {
+        CPLErrorReset();
+        if (srs.SetFromUserInput(crs.c_str()) != OGRERR_NONE)
+            throw InputError(fmt::format("{}: crs: expected WKT, an EPSG code or a PROJ string, found '{}'{}", name,
+                                         firstLine(crs), gdalReason()));
+        srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    }
+    const Lattice lattice = placeRaster(name, gt, crs.empty() ? nullptr : &srs, width, height, out.geo, out.warnings);
+    out.cellSizeXM = lattice.cellSizeXM;
+    out.cellSizeYM = lattice.cellSizeYM;
+    out.flipRows = lattice.flipRows;
+    out.flipColumns = lattice.flipColumns;
+    return out;
 }
 
 LoadedDem loadDemFromBytes(std::string_view bytes, const std::string& name, const DemLoadOptions& options) {

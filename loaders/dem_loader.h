@@ -67,6 +67,26 @@ struct LoadedDem {
 // has no valid cell.
 LoadedDem loadDem(const std::string& path, const DemLoadOptions& options = {});
 
+// How an array of heights lies, as loadDem finds it for a raster file of that size with this geotransform and
+// CRS: the georeference, the metres between vertices, and which way the array's rows and columns run.
+struct ArrayPlacement {
+    GeoReference geo;
+    double cellSizeXM = 1.0;
+    double cellSizeYM = 1.0;
+    bool flipRows = true;      // array row 0 is the north edge (a negative geotransform term 5)
+    bool flipColumns = false;  // array column 0 is the east edge
+    std::vector<std::string> warnings;
+};
+
+// `gt`: a GDAL geotransform; `crs`: anything GDAL's SetFromUserInput reads (WKT, "EPSG:32610", a PROJ string),
+// or empty for none (metres assumed). Throws InputError naming `name`, as loadDem does for such a file.
+ArrayPlacement placeArray(const std::string& name, const double gt[6], const std::string& crs, int64_t width,
+                          int64_t height);
+
+// A DEM held whole with its heights multiplied by `k`, as DemLoadOptions::exaggeration loads it; throws
+// InputError for a factor it refuses or a DEM held as tiles.
+LoadedDem exaggeratedDem(LoadedDem dem, double k);
+
 // Loads a DEM held in memory (a whole file's bytes) through GDAL, as if read from a file called `name`, which
 // the messages cite. Throws as loadDem does.
 LoadedDem loadDemFromBytes(std::string_view bytes, const std::string& name, const DemLoadOptions& options = {});

@@ -83,6 +83,27 @@ float linearFromSrgb(float encoded) {
     return encoded <= 0.04045f ? encoded / 12.92f : std::pow((encoded + 0.055f) / 1.055f, 2.4f);
 }
 
+uint8_t srgbByte(float linear) { return static_cast<uint8_t>(std::lround(srgbFromLinear(linear) * 255.0f)); }
+
+std::optional<glm::vec3> parseHexColour(const std::string& text) {
+    if (text.size() != 7 || text[0] != '#') return std::nullopt;
+    glm::vec3 linear{0.0f};
+    for (int c = 0; c < 3; ++c) {
+        unsigned value = 0;
+        for (int k = 0; k < 2; ++k) {
+            const char ch = text[size_t(1 + 2 * c + k)];
+            const int digit = ch >= '0' && ch <= '9' ? ch - '0'
+                            : ch >= 'a' && ch <= 'f' ? ch - 'a' + 10
+                            : ch >= 'A' && ch <= 'F' ? ch - 'A' + 10
+                                                     : -1;
+            if (digit < 0) return std::nullopt;
+            value = value * 16 + unsigned(digit);
+        }
+        linear[c] = linearFromSrgb(float(value) / 255.0f);
+    }
+    return linear;
+}
+
 float srgbFromLinear(float linear) {
     if (!(linear > 0.0f)) return 0.0f;
     if (linear >= 1.0f) return 1.0f;
@@ -161,7 +182,7 @@ void writeImage(const std::string& path, const RgbImage& image) {
     if (png) {
         std::vector<uint8_t> levels(image.rgb.size());
         for (size_t k = 0; k < levels.size(); ++k)
-            levels[k] = static_cast<uint8_t>(std::lround(srgbFromLinear(image.rgb[k]) * 255.0f));
+            levels[k] = srgbByte(image.rgb[k]);
         bytes = png::encode(path, image.width, image.height, png::Layout::SrgbRgb8, levels.data());
     } else {
         bytes = encodeInMemory(path, image.width, image.height, 3, PixelType::Half, "Linear", PixelType::Float,

@@ -2,7 +2,10 @@
 // OpenImageIO), and writing small text outputs, always atomically.
 #pragma once
 
+#include <glm/vec3.hpp>
+
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -48,8 +51,12 @@ void writeFileAtomically(const std::string& path, std::string_view bytes);
 
 // The sRGB encoding (IEC 61966-2-1) of a linear value, in [0, 1]; inputs outside [0, 1] and NaN are clamped.
 float srgbFromLinear(float linear);
+// The 8-bit sRGB level of a linear value, as PNG pictures store it.
+uint8_t srgbByte(float linear);
 // The sRGB transfer function inverted (IEC 61966-2-1): an encoded value in [0, 1] to linear.
 float linearFromSrgb(float encoded);
+// "#rrggbb" (sRGB, as web colours are written) as linear RGB; none for anything else.
+std::optional<glm::vec3> parseHexColour(const std::string& text);
 
 // Reads an image as linear RGB (PNG is decoded from sRGB). Throws InputError on failure.
 RgbImage readImage(const std::string& path);

@@ -39,13 +39,6 @@ using namespace loader_support;
 
 namespace fs = std::filesystem;
 
-// A Byte sample: rounded to the nearest integer and clamped to 0..255 (NaN becomes 0).
-uint8_t toByte(float value) {
-    if (!(value > 0.0f)) return 0;
-    if (value >= 255.0f) return 255;
-    return static_cast<uint8_t>(std::lround(value));
-}
-
 // GDAL's block cache while the COG is made (TiledGeoTiffWriter::kCopyCacheBytes).
 constexpr int64_t kCopyCacheBytes = TiledGeoTiffWriter::kCopyCacheBytes;
 
@@ -120,6 +113,12 @@ int CPL_STDCALL copyProgress(double done, const char*, void* data) {
 }
 
 }  // namespace
+
+uint8_t rasterByte(float value) {
+    if (!(value > 0.0f)) return 0;
+    if (value >= 255.0f) return 255;
+    return static_cast<uint8_t>(std::lround(value));
+}
 
 struct TiledGeoTiffWriter::State {
     std::string path;
@@ -291,7 +290,7 @@ std::vector<Sample> fileOrder(const float* values, int64_t width, int64_t height
         for (size_t k = 0; k < rowValues; ++k) {
             const float v = std::isnan(source[k]) ? noData : source[k];
             if constexpr (std::is_same_v<Sample, uint8_t>)
-                target[k] = toByte(v);
+                target[k] = rasterByte(v);
             else
                 target[k] = v;
         }

@@ -35,6 +35,10 @@ struct GridRaster : RasterLayout {
 // Sample type of the written file.
 enum class RasterType { Byte, Float32 };
 
+// A Byte sample as the writers store a value: rounded to the nearest integer and clamped to 0..255 (NaN
+// becomes 0).
+uint8_t rasterByte(float value);
+
 // Where a raster lies: the CRS of `geo`, and sample (i, j) (row 0 south) centred on source-CRS position
 // (originX + i * pixelSizeX, originY + j * pixelSizeY). `pixelSizeX` / `pixelSizeY` are the raster's spacing in
 // source-CRS units (positive); the DEM's own spacing reproduces its grid exactly. For a DEM without a

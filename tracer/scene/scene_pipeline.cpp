@@ -69,7 +69,7 @@ std::string formatRayTree(int x, int y, const std::vector<RayRecord>& tree) {
     return out;
 }
 
-void renderSceneFile(const SceneRunOptions& o, const RunListener& listener) {
+Film renderSceneFile(const SceneRunOptions& o, const RunListener& listener) {
     SceneDescription d = loadSceneFile(o.path, o.anyPath);
     RenderDescription& r = d.render;
     if (!o.output.empty()) r.output = o.output;
@@ -90,7 +90,7 @@ void renderSceneFile(const SceneRunOptions& o, const RunListener& listener) {
         throw InputError(fmt::format("--focus: expected a pixel inside {}x{}, found {},{}", r.width, r.height, o.focusX,
                                      o.focusY));
     // With --debug-pixel only an output named on the command line is rendered, never the file's own.
-    const bool writesImage = !o.debugPixel || !o.output.empty();
+    const bool writesImage = o.write && (!o.debugPixel || !o.output.empty());
     if (r.output.empty() && writesImage)
         throw InputError(o.path + ": no output image: give -o OUT or set output in [render]");
     if (o.debugPixel && (o.debugX < 0 || o.debugY < 0 || o.debugX >= r.width || o.debugY >= r.height))
@@ -146,12 +146,13 @@ void renderSceneFile(const SceneRunOptions& o, const RunListener& listener) {
         const glm::vec3 v = tracePixel(scene, camera, s, o.debugX, o.debugY, &tree);
         listener.print(formatRayTree(o.debugX, o.debugY, tree));
         listener.print(fmt::format("pixel value ({:.4g}, {:.4g}, {:.4g})\n", v.r, v.g, v.b));
-        if (!writesImage) return;
+        if (!writesImage && o.write) return {};
     }
 
     s.progress = listener.progress;
     SceneRayStats stats;
     Film film = renderScene(scene, camera, s, &stats);
+    if (!o.write) return film;
     writeImage(r.output, RgbImage{film.width, film.height, std::move(film.rgb)});
     listener.tell(fmt::format(
         "rendered {} ({}x{}, {} spp{}) in {:.2f} s: {} primary, {} shadow, {} reflection, {} refraction, {} "
@@ -162,6 +163,7 @@ void renderSceneFile(const SceneRunOptions& o, const RunListener& listener) {
         s.adaptive ? fmt::format(" on average, adaptive up to {}", s.rule.maxSamples) : "", stats.seconds, stats.primary,
         stats.shadow, stats.reflection, stats.refraction, stats.skyVisibility, stats.skyRays,
         stats.seconds > 0 ? double(stats.total()) / stats.seconds * 1e-6 : 0.0, humanBytes(peakResidentBytes())));
+    return {};
 }
 
 }  // namespace terracast

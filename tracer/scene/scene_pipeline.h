@@ -39,11 +39,14 @@ struct SceneRunOptions {
     bool debugPixel = false;                   // print one pixel's ray tree to the listener's output
     int debugX = 0, debugY = 0;
     double maxMemoryBytes = 0.0;               // 0 = 80% of physical memory
+    bool write = true;                         // false: return the picture instead of writing it (no output
+                                               // needed; the Python module)
 };
 
 // Renders the scene file; the summary line goes to the listener's note, a debug pixel's ray tree to its
-// output. Throws InputError for bad input, Cancelled when interrupted.
-void renderSceneFile(const SceneRunOptions& options, const RunListener& listener);
+// output. Throws InputError for bad input, Cancelled when interrupted. Returns the picture when
+// options.write is false, else an empty film.
+Film renderSceneFile(const SceneRunOptions& options, const RunListener& listener);
 
 // One pixel's ray tree, one ray per line, indented by depth.
 std::string formatRayTree(int x, int y, const std::vector<RayRecord>& tree);

@@ -141,25 +141,19 @@ void mapViewSample(const glm::vec3& linear, bool covered, float* out) {
     out[3] = covered ? 255.0f : 0.0f;
 }
 
-// `render --view map`: the top-down shaded relief, as a GeoTIFF on the DEM's georeference or a PNG.
-void renderMap(const DemRenderOptions& o, const RunListener& listener) {
-    // A GeoTIFF at scale 1 on a surface through the vertices is a per-vertex product on the DEM's own grid,
-    // written a tile at a time (and over the ranks); a PNG or another scale is one picture held whole.
-    const bool onGrid = lowerExtension(o.output) != ".png" && o.scale == 1.0 &&
-                        requireDirectMethod(o.method, "--view map") != CellMethod::Nearest;
-    if (ranks::size() > 1 && !onGrid)
-        throw InputError("render --view map: runs as one process as a PNG, at a --scale other than 1 or with "
-                         "--method nearest; under mpirun the ranks share a GeoTIFF at scale 1");
-    if (o.resume && !onGrid)
-        throw InputError("render --resume: only the map view as a GeoTIFF at --scale 1 (not --method nearest) is "
-                         "written a tile at a time and can resume");
-    checkOutputPath(o.output, o.dem.path, {".tif", ".tiff", ".png"});
+void checkMapViewOptions(const DemRenderOptions& o) {
     checkViewValues(o.exaggeration, o.sunElevationDeg);
     if (!(o.scale > 0.0 && o.scale <= 16.0)) throw InputError(fmt::format("--scale: expected (0, 16], found {}", o.scale));
     if (!(o.hillshadeBlend >= 0.0 && o.hillshadeBlend <= 1.0))
         throw InputError(fmt::format("--hillshade-blend: expected 0..1, found {}", o.hillshadeBlend));
     checkSkySamples(o.skySamples);
-    LoadedDem dem = loadDemSource(o.dem, listener, onGrid, o.exaggeration);
+    requireDirectMethod(o.method, "--view map");
+}
+
+}  // namespace
+
+MapViewSettings mapViewSettings(const DemRenderOptions& o, const LoadedDem& dem, const RunListener& listener) {
+    checkMapViewOptions(o);
     double sunAzimuthDeg = o.sunAzimuthDeg, sunElevationDeg = o.sunElevationDeg;
     applySunTime(o, dem, sunAzimuthDeg, sunElevationDeg, listener);
     TerrainRenderSettings view =
@@ -174,23 +168,64 @@ void renderMap(const DemRenderOptions& o, const RunListener& listener) {
     m.method = requireDirectMethod(o.method, "--view map");
     m.threads = o.threads;
     m.progress = listener.progress;
+    return m;
+}
+
+VertexProduct mapViewProduct(const DemRenderOptions& o, const LoadedDem& dem, const RunListener& listener) {
+    if (o.scale != 1.0 || requireDirectMethod(o.method, "--view map") == CellMethod::Nearest)
+        throw InputError("render --view map: a map view on the DEM's own grid takes --scale 1 and a method whose "
+                         "surface passes through the vertices (not nearest)");
+    const MapViewSettings m = mapViewSettings(o, dem, listener);
+    // 8-bit sRGB in three bands and an alpha band (0 over holes), on the DEM's own grid, a tile at a time.
+    VertexProduct product;
+    product.bands = 4;
+    product.type = RasterType::Byte;
+    product.lastBandIsAlpha = true;
+    product.labels.bands = {"red", "green", "blue", "alpha: 255 over the terrain, 0 over nodata"};
+    product.compute = [make = mapViewMaker(dem.grid, m)](const VertexWindow& w, const MapProgress& p) {
+        MapRaster r = make(w, p);
+        for (size_t k = 0; k < r.values.size(); k += 4) {
+            mapViewSample({r.values[k], r.values[k + 1], r.values[k + 2]}, r.values[k + 3] > 0.0f, &r.values[k]);
+        }
+        return r;
+    };
+    return product;
+}
+
+std::vector<uint8_t> mapViewPixels(const MapImage& image) {
+    const Film& film = image.film;
+    std::vector<uint8_t> out(size_t(film.width) * size_t(film.height) * 4);
+    for (int y = 0; y < film.height; ++y)
+        for (int x = 0; x < film.width; ++x) {
+            float v[4];
+            mapViewSample(film.get(x, y), image.covered[size_t(y) * size_t(film.width) + size_t(x)] != 0, v);
+            for (int b = 0; b < 4; ++b) out[(size_t(y) * size_t(film.width) + size_t(x)) * 4 + size_t(b)] = rasterByte(v[b]);
+        }
+    return out;
+}
+
+namespace {
+
+// `render --view map`: the top-down shaded relief, as a GeoTIFF on the DEM's georeference or a PNG.
+void renderMap(const DemRenderOptions& o, const RunListener& listener) {
+    // A GeoTIFF at scale 1 on a surface through the vertices is a per-vertex product on the DEM's own grid,
+    // written a tile at a time (and over the ranks); a PNG or another scale is one picture held whole.
+    const bool onGrid = lowerExtension(o.output) != ".png" && o.scale == 1.0 &&
+                        requireDirectMethod(o.method, "--view map") != CellMethod::Nearest;
+    if (ranks::size() > 1 && !onGrid)
+        throw InputError("render --view map: runs as one process as a PNG, at a --scale other than 1 or with "
+                         "--method nearest; under mpirun the ranks share a GeoTIFF at scale 1");
+    if (o.resume && !onGrid)
+        throw InputError("render --resume: only the map view as a GeoTIFF at --scale 1 (not --method nearest) is "
+                         "written a tile at a time and can resume");
+    checkOutputPath(o.output, o.dem.path, {".tif", ".tiff", ".png"});
+    checkMapViewOptions(o);
+    LoadedDem dem = loadDemSource(o.dem, listener, onGrid, o.exaggeration);
     if (onGrid) {
-        // 8-bit sRGB in three bands and an alpha band (0 over holes), on the DEM's own grid, a tile at a time.
         checkRasterJob(dem, o.dem.maxMemoryBytes, 4, RasterType::Byte, 0.0, "the map view");
         listener.at("map view");
         const auto start = std::chrono::steady_clock::now();
-        VertexProduct product;
-        product.bands = 4;
-        product.type = RasterType::Byte;
-        product.lastBandIsAlpha = true;
-        product.labels.bands = {"red", "green", "blue", "alpha: 255 over the terrain, 0 over nodata"};
-        product.compute = [make = mapViewMaker(dem.grid, m)](const VertexWindow& w, const MapProgress& p) {
-            MapRaster r = make(w, p);
-            for (size_t k = 0; k < r.values.size(); k += 4) {
-                mapViewSample({r.values[k], r.values[k + 1], r.values[k + 2]}, r.values[k + 3] > 0.0f, &r.values[k]);
-            }
-            return r;
-        };
+        VertexProduct product = mapViewProduct(o, dem, listener);
         const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
         tellRasterSummary(listener, "map view", o.output, count, count.rays, "sun and sky rays", start);
         return;
@@ -204,6 +239,7 @@ void renderMap(const DemRenderOptions& o, const RunListener& listener) {
                     pixels * (kFilmBytesPerPixel + 1.0 + (png ? kFilmBytesPerPixel + kEncodeBytesPerPixel : 17.0)),
                     fmt::format("the map view at scale {:g}", o.scale));
     }
+    const MapViewSettings m = mapViewSettings(o, dem, listener);
     listener.at("map view");
     const auto start = std::chrono::steady_clock::now();
     const MapImage image = renderMapView(dem.grid, m);
@@ -243,11 +279,7 @@ void renderMap(const DemRenderOptions& o, const RunListener& listener) {
                               seconds > 0.0 ? double(rays) / seconds * 1e-6 : 0.0, humanBytes(peakResidentBytes())));
 }
 
-// `render` without --view map.
-RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListener& listener) {
-    using Clock = std::chrono::steady_clock;
-    const auto start = Clock::now();
-    checkOutputPath(o.output, o.dem.path);
+void checkPerspectiveOptions(const DemRenderOptions& o) {
     checkViewValues(o.exaggeration, o.sunElevationDeg);
     checkSkySamples(o.skySamples);
     if (!(o.haze >= 0.0 && o.haze <= 1000.0))
@@ -257,10 +289,15 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
         throw InputError(fmt::format("--spp: expected 1..65536 samples per pixel, found {}", o.samples));
     if (o.adaptive && !(o.adaptiveError > 0.0))
         throw InputError(fmt::format("--adaptive: expected an error > 0, found {}", o.adaptiveError));
-    if (!o.drape.empty()) checkNotInput(o.output, o.drape, "-o", "the drape");
-    // Embree's meshes read every vertex; the direct methods read only the tiles the render sees.
-    LoadedDem dem = loadDemSource(o.dem, listener, directCellMethod(o.method).has_value(), o.exaggeration);
-    HeightGrid& grid = dem.grid;
+    if (o.width < 1 || o.height < 1 || o.width > 65536 || o.height > 65536)
+        throw InputError(fmt::format("--size: expected 1..65536 pixels a side, found {}x{}", o.width, o.height));
+}
+
+}  // namespace
+
+TerrainRenderSettings perspectiveSettings(const DemRenderOptions& o, const LoadedDem& dem, const RunListener& listener) {
+    checkPerspectiveOptions(o);
+    const HeightGrid& grid = dem.grid;
     double sunAzimuthDeg = o.sunAzimuthDeg, sunElevationDeg = o.sunElevationDeg;
     applySunTime(o, dem, sunAzimuthDeg, sunElevationDeg, listener);
     TerrainRenderSettings s = makeView(grid, o.width, o.height, sunAzimuthDeg, sunElevationDeg,
@@ -285,6 +322,22 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
         if (o.cameraKind == CameraKind::Orthographic) s.sky.aerialPerspective = false;
     }
     s.progress = progressWithTiles(listener, grid);
+    return s;
+}
+
+namespace {
+
+// `render` without --view map.
+RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListener& listener) {
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
+    checkOutputPath(o.output, o.dem.path);
+    checkPerspectiveOptions(o);
+    if (!o.drape.empty()) checkNotInput(o.output, o.drape, "-o", "the drape");
+    // Embree's meshes read every vertex; the direct methods read only the tiles the render sees.
+    LoadedDem dem = loadDemSource(o.dem, listener, directCellMethod(o.method).has_value(), o.exaggeration);
+    HeightGrid& grid = dem.grid;
+    TerrainRenderSettings s = perspectiveSettings(o, dem, listener);
 
     prepareImageWriter(o.output);
     // A drape holds three floats a vertex.

@@ -12,7 +12,9 @@
 #include "tracer/sky/calendar.h"
 #include "tracer/sky/sky_description.h"
 #include "tracer/terrain/camera.h"
+#include "tracer/terrain/maps.h"
 #include "tracer/terrain/terrain_renderer.h"
+#include "tracer/terrain/tiled_product.h"
 
 #include <cstdint>
 #include <optional>
@@ -93,6 +95,21 @@ struct DemRenderOptions {
     Backdrop backdrop = Backdrop::Neutral;
     double hillshadeBlend = 0.0;               // map view: weight of a plain hillshade, 0..1
 };
+
+// The perspective view of a loaded DEM as `render` makes it (options checked, sun time, camera, look, sampling);
+// the drape (options.drape) is left for the caller to load, after its memory check.
+TerrainRenderSettings perspectiveSettings(const DemRenderOptions& options, const LoadedDem& dem,
+                                          const RunListener& listener);
+
+// The map view's settings from `render --view map`'s options (checked).
+MapViewSettings mapViewSettings(const DemRenderOptions& options, const LoadedDem& dem, const RunListener& listener);
+
+// The map view on the DEM's own grid (scale 1, a method through the vertices, else InputError) as a per-vertex
+// product of four Byte bands: sRGB and alpha (255 over the terrain, 0 over holes); refers to `dem`.
+VertexProduct mapViewProduct(const DemRenderOptions& options, const LoadedDem& dem, const RunListener& listener);
+
+// A map view held whole as the samples its GeoTIFF holds: rows north first, four bytes a pixel (sRGB, alpha).
+std::vector<uint8_t> mapViewPixels(const MapImage& image);
 
 // Wall-clock seconds of the phases of one perspective render.
 struct RenderPhaseSeconds {

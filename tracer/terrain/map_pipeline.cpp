@@ -66,47 +66,6 @@ std::optional<int64_t> durationSeconds(const std::string& text) {
     return count * per;
 }
 
-// `shadow --sun-time START/END/STEP`: one Byte band per time, in one pass over the grid.
-void writeShadowSeries(const ShadowMapOptions& o, const RunListener& listener) {
-    if (o.sunSizeDeg != 0.0) throw InputError("shadow: --sun-size applies to one sun; --sun-time ranges use a point sun");
-    const HorizonSearch search = searchFrom(o.maxDistanceM, o.curvatureCoeff, "shadow");
-    const CellMethod method = requireDirectMethod(o.method, "shadow");
-    const LoadedDem dem = loadDemSource(o.dem, listener, true);
-    std::vector<glm::dvec2> suns;
-    RasterLabels labels;
-    std::string times;
-    int up = 0;
-    const GridLonLat places(dem.geo, o.dem.path + ": --sun-time");
-    for (const UtcInstant& when : o.sunTimes) {
-        double az = 0.0, el = 0.0;
-        placeSunOverGrid(when, places, dem.grid.width(), dem.grid.height(), az, el);
-        suns.push_back({radians(az), radians(el)});
-        up += el > 0.0;
-        labels.bands.push_back(
-            fmt::format("sun shadow at {} (azimuth {:.2f}, elevation {:.2f} degrees): 1 shadowed, 0 lit", formatUtc(when), az, el));
-        if (!times.empty()) times += ',';
-        times += formatUtc(when);
-    }
-    labels.units = {"1"};
-    labels.metadata = {{"TERRACAST_PRODUCT", "shadow"},
-                       {"TERRACAST_SUN_TIMES", times},
-                       {"TERRACAST_MAX_DISTANCE_M", number(o.maxDistanceM)},
-                       {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
-                       {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
-    listener.tell(fmt::format("{} sun times from {} to {}, the sun above the horizon at {} of them", o.sunTimes.size(),
-                              formatUtc(o.sunTimes.front()), formatUtc(o.sunTimes.back()), up));
-    checkRasterJob(dem, o.dem.maxMemoryBytes, int(suns.size()), RasterType::Byte, 0.0,
-                   fmt::format("{} shadow bands", suns.size()));
-    listener.at("shadow");
-    const auto start = std::chrono::steady_clock::now();
-    VertexProduct product{int(suns.size()), RasterType::Byte, 255.0, std::move(labels),
-                          [&](const VertexWindow& w, const MapProgress& progress) {
-                              return shadowMasks(dem.grid, suns, method, o.threads, search, progress, w);
-                          }};
-    const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
-    tellRasterSummary(listener, "shadow masks", o.output, count, count.valid, "shadow walks", start);
-}
-
 }  // namespace
 
 std::vector<double> parseAzimuthRange(const std::string& text, const std::string& option) {
@@ -184,27 +143,66 @@ DateSpan parseDateSpan(const std::string& text, const std::string& option) {
     return span;
 }
 
-void writeShadowMap(const ShadowMapOptions& o, const RunListener& listener) {
-    checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
+namespace {
+
+// The checks of `shadow`'s options that need no DEM.
+void checkShadowOptions(const ShadowMapOptions& o) {
     if (!o.sunTimes.empty()) {
-        writeShadowSeries(o, listener);
-        return;
+        if (o.sunSizeDeg != 0.0)
+            throw InputError("shadow: --sun-size applies to one sun; --sun-time ranges use a point sun");
+    } else {
+        checkViewValues(1.0, o.sunElevationDeg);
+        if (!(o.sunSizeDeg >= 0.0 && o.sunSizeDeg < 30.0))
+            throw InputError(fmt::format("--sun-size: expected degrees in [0, 30), found {}", o.sunSizeDeg));
     }
-    checkViewValues(1.0, o.sunElevationDeg);
-    if (!(o.sunSizeDeg >= 0.0 && o.sunSizeDeg < 30.0))
-        throw InputError(fmt::format("--sun-size: expected degrees in [0, 30), found {}", o.sunSizeDeg));
+    searchFrom(o.maxDistanceM, o.curvatureCoeff, "shadow");
+    requireDirectMethod(o.method, "shadow");
+}
+
+// Sun disc samples of a shadow mask with --sun-size.
+constexpr int kSunDiscSamples = 16;
+
+}  // namespace
+
+VertexProduct shadowProduct(const ShadowMapOptions& o, const LoadedDem& dem, const RunListener& listener) {
+    checkShadowOptions(o);
     const HorizonSearch search = searchFrom(o.maxDistanceM, o.curvatureCoeff, "shadow");
     const CellMethod method = requireDirectMethod(o.method, "shadow");
-    const LoadedDem dem = loadDemSource(o.dem, listener, true);
-    checkRasterJob(dem, o.dem.maxMemoryBytes, 1, o.sunSizeDeg == 0.0 ? RasterType::Byte : RasterType::Float32, 0.0,
-                   "a shadow mask");
-    listener.at("shadow");
-    const auto start = std::chrono::steady_clock::now();
-    const int samples = 16;
-    const bool point = o.sunSizeDeg == 0.0;
+    const int threads = o.threads;
     RasterLabels labels;
-    labels.bands = {point ? "sun shadow: 1 shadowed, 0 lit" : "share of the sun's disc hidden by terrain"};
     labels.units = {"1"};
+    if (!o.sunTimes.empty()) {
+        // --sun-time START/END/STEP: one Byte band per time, in one pass over the grid.
+        std::vector<glm::dvec2> suns;
+        std::string times;
+        int up = 0;
+        const GridLonLat places(dem.geo, dem.path + ": --sun-time");
+        for (const UtcInstant& when : o.sunTimes) {
+            double az = 0.0, el = 0.0;
+            placeSunOverGrid(when, places, dem.grid.width(), dem.grid.height(), az, el);
+            suns.push_back({radians(az), radians(el)});
+            up += el > 0.0;
+            labels.bands.push_back(fmt::format("sun shadow at {} (azimuth {:.2f}, elevation {:.2f} degrees): 1 "
+                                               "shadowed, 0 lit", formatUtc(when), az, el));
+            if (!times.empty()) times += ',';
+            times += formatUtc(when);
+        }
+        labels.metadata = {{"TERRACAST_PRODUCT", "shadow"},
+                           {"TERRACAST_SUN_TIMES", times},
+                           {"TERRACAST_MAX_DISTANCE_M", number(o.maxDistanceM)},
+                           {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
+                           {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
+        listener.tell(fmt::format("{} sun times from {} to {}, the sun above the horizon at {} of them",
+                                  o.sunTimes.size(), formatUtc(o.sunTimes.front()), formatUtc(o.sunTimes.back()), up));
+        const int bands = int(suns.size());
+        return {bands, RasterType::Byte, 255.0, std::move(labels),
+                [&grid = dem.grid, suns = std::move(suns), method, threads, search](const VertexWindow& w,
+                                                                                   const MapProgress& progress) {
+                    return shadowMasks(grid, suns, method, threads, search, progress, w);
+                }};
+    }
+    const bool point = o.sunSizeDeg == 0.0;
+    labels.bands = {point ? "sun shadow: 1 shadowed, 0 lit" : "share of the sun's disc hidden by terrain"};
     labels.metadata = {{"TERRACAST_PRODUCT", "shadow"},
                        {"TERRACAST_SUN_AZIMUTH_DEG", number(o.sunAzimuthDeg)},
                        {"TERRACAST_SUN_ELEVATION_DEG", number(o.sunElevationDeg)},
@@ -213,26 +211,44 @@ void writeShadowMap(const ShadowMapOptions& o, const RunListener& listener) {
                        {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
                        {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
     // A point sun gives 0 or 1: bytes, 255 for nodata; a disc gives fractions.
-    VertexProduct product{1, point ? RasterType::Byte : RasterType::Float32, point ? 255.0 : -9999.0,
-                          std::move(labels), [&](const VertexWindow& w, const MapProgress& progress) {
-                              return shadowMask(dem.grid, radians(o.sunAzimuthDeg), radians(o.sunElevationDeg), method,
-                                                radians(0.5 * o.sunSizeDeg), samples, o.threads, search, progress, w);
-                          }};
-    const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
-    tellRasterSummary(listener, "shadow mask", o.output, count, count.valid * (point ? 1 : samples), "shadow walks",
-                      start);
+    const double az = radians(o.sunAzimuthDeg), el = radians(o.sunElevationDeg), radius = radians(0.5 * o.sunSizeDeg);
+    return {1, point ? RasterType::Byte : RasterType::Float32, point ? 255.0 : -9999.0, std::move(labels),
+            [&grid = dem.grid, az, el, radius, method, threads, search](const VertexWindow& w, const MapProgress& progress) {
+                return shadowMask(grid, az, el, method, radius, kSunDiscSamples, threads, search, progress, w);
+            }};
 }
 
-void writeHorizonMap(const HorizonMapOptions& o, const RunListener& listener) {
+void writeShadowMap(const ShadowMapOptions& o, const RunListener& listener) {
     checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
+    checkShadowOptions(o);
+    const LoadedDem dem = loadDemSource(o.dem, listener, true);
+    VertexProduct product = shadowProduct(o, dem, listener);
+    checkRasterJob(dem, o.dem.maxMemoryBytes, product.bands, product.type, 0.0,
+                   o.sunTimes.empty() ? std::string("a shadow mask") : fmt::format("{} shadow bands", product.bands));
+    listener.at("shadow");
+    const auto start = std::chrono::steady_clock::now();
+    const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
+    const bool disc = o.sunTimes.empty() && o.sunSizeDeg != 0.0;
+    tellRasterSummary(listener, o.sunTimes.empty() ? "shadow mask" : "shadow masks", o.output, count,
+                      count.valid * (disc ? kSunDiscSamples : 1), "shadow walks", start);
+}
+
+namespace {
+
+void checkHorizonOptions(const HorizonMapOptions& o) {
     if (o.azimuthsDeg.empty()) throw InputError("horizon: no azimuth given (--azimuth or --azimuths)");
     for (double a : o.azimuthsDeg)
         if (!std::isfinite(a)) throw InputError(fmt::format("horizon --azimuth: expected degrees, found {}", a));
+    searchFrom(o.maxDistanceM, o.curvatureCoeff, "horizon");
+    requireDirectMethod(o.method, "horizon");
+}
+
+}  // namespace
+
+VertexProduct horizonProduct(const HorizonMapOptions& o, const LoadedDem& dem) {
+    checkHorizonOptions(o);
     const HorizonSearch search = searchFrom(o.maxDistanceM, o.curvatureCoeff, "horizon");
     const CellMethod method = requireDirectMethod(o.method, "horizon");
-    const LoadedDem dem = loadDemSource(o.dem, listener, true);
-    listener.at("horizon");
-    const auto start = std::chrono::steady_clock::now();
     std::vector<double> azimuths;
     RasterLabels labels;
     for (double a : o.azimuthsDeg) {
@@ -245,34 +261,52 @@ void writeHorizonMap(const HorizonMapOptions& o, const RunListener& listener) {
                        {"TERRACAST_MAX_DISTANCE_M", number(o.maxDistanceM)},
                        {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
                        {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
-    checkRasterJob(dem, o.dem.maxMemoryBytes, int(azimuths.size()), RasterType::Float32, 0.0,
-                   fmt::format("{} horizon bands", azimuths.size()));
-    VertexProduct product{int(azimuths.size()), RasterType::Float32, -9999.0, std::move(labels),
-                          [&](const VertexWindow& w, const MapProgress& progress) {
-                              return horizonMaps(dem.grid, azimuths, method, o.threads, search, progress, w);
-                          }};
+    const int bands = int(azimuths.size());
+    return {bands, RasterType::Float32, -9999.0, std::move(labels),
+            [&grid = dem.grid, azimuths = std::move(azimuths), method, threads = o.threads, search](
+                const VertexWindow& w, const MapProgress& progress) {
+                return horizonMaps(grid, azimuths, method, threads, search, progress, w);
+            }};
+}
+
+void writeHorizonMap(const HorizonMapOptions& o, const RunListener& listener) {
+    checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
+    checkHorizonOptions(o);
+    const LoadedDem dem = loadDemSource(o.dem, listener, true);
+    listener.at("horizon");
+    const auto start = std::chrono::steady_clock::now();
+    VertexProduct product = horizonProduct(o, dem);
+    checkRasterJob(dem, o.dem.maxMemoryBytes, product.bands, RasterType::Float32, 0.0,
+                   fmt::format("{} horizon bands", product.bands));
     const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
     tellRasterSummary(listener, "horizon angles", o.output, count, count.rays, "horizon walks", start);
 }
 
-void writeSkyViewMap(const SkyViewMapOptions& o, const RunListener& listener) {
-    checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
+namespace {
+
+void checkSkyViewOptions(const SkyViewMapOptions& o) {
     if (o.directions < 1 || o.directions > 3600)
         throw InputError(fmt::format("svf --directions: expected 1 to 3600, found {}", o.directions));
+    searchFrom(o.maxDistanceM, o.curvatureCoeff, "svf");
+    requireDirectMethod(o.method, "svf");
+}
+
+// The search radius of the sky view: the option, or 10 cells (the Relief Visualization Toolbox's default).
+double skyViewRadius(const SkyViewMapOptions& o, const HeightGrid& grid) {
+    return o.maxDistanceM > 0.0 ? o.maxDistanceM : 10.0 * std::max(grid.cellSizeXM(), grid.cellSizeYM());
+}
+
+}  // namespace
+
+VertexProduct skyViewProduct(const SkyViewMapOptions& o, const LoadedDem& dem) {
+    checkSkyViewOptions(o);
     SkyViewSettings s;
     s.search = searchFrom(o.maxDistanceM, o.curvatureCoeff, "svf");
     s.method = requireDirectMethod(o.method, "svf");
-    // The terrain upside down is a copy of the grid: for tiles, a second tile cache over the same source.
-    const LoadedDem dem = loadDemSource(o.dem, listener, true);
-    const double radius = o.maxDistanceM > 0.0 ? o.maxDistanceM
-                                               : 10.0 * std::max(dem.grid.cellSizeXM(), dem.grid.cellSizeYM());
+    const double radius = skyViewRadius(o, dem.grid);
     s.search.maxDistanceM = radius;
-    checkRasterJob(dem, o.dem.maxMemoryBytes, 3, RasterType::Float32, 0.0, "sky-view factor and openness");
     s.directions = o.directions;
     s.threads = o.threads;
-    listener.at("svf");
-    const auto start = std::chrono::steady_clock::now();
-    const auto skyViewOf = skyViewMaker(dem.grid, s);
     RasterLabels labels;
     labels.bands = {"sky-view factor (share of the sky visible)", "positive openness", "negative openness"};
     labels.units = {"1", "degree", "degree"};
@@ -281,15 +315,28 @@ void writeSkyViewMap(const SkyViewMapOptions& o, const RunListener& listener) {
                        {"TERRACAST_MAX_DISTANCE_M", number(radius)},
                        {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
                        {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
-    VertexProduct product{3, RasterType::Float32, -9999.0, std::move(labels), skyViewOf};
+    // The terrain upside down is a copy of the grid: for tiles, a second tile cache over the same source.
+    return {3, RasterType::Float32, -9999.0, std::move(labels), skyViewMaker(dem.grid, s)};
+}
+
+void writeSkyViewMap(const SkyViewMapOptions& o, const RunListener& listener) {
+    checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
+    checkSkyViewOptions(o);
+    const LoadedDem dem = loadDemSource(o.dem, listener, true);
+    checkRasterJob(dem, o.dem.maxMemoryBytes, 3, RasterType::Float32, 0.0, "sky-view factor and openness");
+    listener.at("svf");
+    const auto start = std::chrono::steady_clock::now();
+    VertexProduct product = skyViewProduct(o, dem);
     const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
-    listener.tell(fmt::format("sky-view factor and openness: {} directions, search radius {:.1f} m", o.directions, radius));
+    listener.tell(fmt::format("sky-view factor and openness: {} directions, search radius {:.1f} m", o.directions,
+                              skyViewRadius(o, dem.grid)));
     tellRasterSummary(listener, "sky view", o.output, count, count.width * count.height * 2 * o.directions,
                       "horizon walks", start);
 }
 
-void writeInsolationMap(const InsolationMapOptions& o, const RunListener& listener) {
-    checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
+namespace {
+
+void checkInsolationOptions(const InsolationMapOptions& o) {
     if (!(o.linkeTurbidity >= 0.5 && o.linkeTurbidity <= 10.0))
         throw InputError(fmt::format("insolation --linke: expected a Linke turbidity in [0.5, 10], found {}", o.linkeTurbidity));
     if (!(o.albedo >= 0.0 && o.albedo <= 1.0))
@@ -298,22 +345,27 @@ void writeInsolationMap(const InsolationMapOptions& o, const RunListener& listen
         throw InputError(fmt::format("insolation --step: expected 10 s to 1 d, found {} s", o.stepSeconds));
     if (o.dayStep < 1 || o.dayStep > 366)
         throw InputError(fmt::format("insolation --day-step: expected 1 to 366 days, found {}", o.dayStep));
+    if (o.dates.lastDay < o.dates.firstDay) throw InputError("insolation --date: END is before START");
     const int64_t perDay = (86400 + o.stepSeconds - 1) / o.stepSeconds;
     const int64_t days = (o.dates.lastDay - o.dates.firstDay) / o.dayStep + 1;
     if (days * perDay > 200000)
         throw InputError(fmt::format("insolation: {} days of {} steps is {} sun positions, more than 200000; use a "
                                      "longer --step or --day-step", days, perDay, days * perDay));
-    InsolationSettings s;
-    s.search = searchFrom(o.maxDistanceM, o.curvatureCoeff, "insolation");
-    s.method = requireDirectMethod(o.method, "insolation");
-    s.sky.linkeTurbidity = o.linkeTurbidity;
-    s.sky.albedo = o.albedo;
-    const LoadedDem dem = loadDemSource(o.dem, listener, true);
-    const GridLonLat places(dem.geo, o.dem.path + ": insolation");
+    searchFrom(o.maxDistanceM, o.curvatureCoeff, "insolation");
+    requireDirectMethod(o.method, "insolation");
+}
+
+// What an insolation product's windows share: the options, the DEM's places, and the settings whose stepsAt
+// gives the sun's positions seen from any vertex.
+struct InsolationPlan {
+    InsolationPlan(const InsolationMapOptions& options, const LoadedDem& dem)
+        : o(options), places(dem.geo, dem.path + ": insolation"),
+          perDay((86400 + o.stepSeconds - 1) / o.stepSeconds) {}
+
     // The sun's positions seen from vertex position (col, row): each computed day starts at local mean solar
     // midnight there; its steps sample the middle of each interval (the last one shorter when the step does not
     // divide the day) and stand for dayStep days, or for the days left at the end of the span.
-    const auto sunSteps = [&](double col, double row, int64_t* up) {
+    std::vector<SunStep> sunSteps(double col, double row, int64_t* up) const {
         double lon = 0.0, lat = 0.0;
         places.lonLat(col, row, lon, lat);
         const double convergence = places.convergenceDeg(col, row);
@@ -343,17 +395,42 @@ void writeInsolationMap(const InsolationMapOptions& o, const RunListener& listen
             }
         }
         return steps;
-    };
+    }
+
+    InsolationMapOptions o;
+    GridLonLat places;
+    int64_t perDay;
+    InsolationSettings s;
+};
+
+std::string dateSpanText(const DateSpan& d) {
+    const CivilDate first = civilFromDays(d.firstDay), last = civilFromDays(d.lastDay);
+    return fmt::format("{:04}-{:02}-{:02}/{:04}-{:02}-{:02}", first.year, first.month, first.day, last.year,
+                       last.month, last.day);
+}
+
+}  // namespace
+
+VertexProduct insolationProduct(const InsolationMapOptions& o, const LoadedDem& dem, const RunListener& listener,
+                                int64_t* sunUpSteps) {
+    checkInsolationOptions(o);
+    auto plan = std::make_shared<InsolationPlan>(o, dem);
+    InsolationSettings& s = plan->s;
+    s.search = searchFrom(o.maxDistanceM, o.curvatureCoeff, "insolation");
+    s.method = requireDirectMethod(o.method, "insolation");
+    s.sky.linkeTurbidity = o.linkeTurbidity;
+    s.sky.albedo = o.albedo;
+    s.threads = o.threads;
+    s.stepsAt = [p = plan.get()](double col, double row) { return p->sunSteps(col, row, nullptr); };
     const double centreCol = 0.5 * double(dem.grid.width() - 1), centreRow = 0.5 * double(dem.grid.height() - 1);
     int64_t up = 0;
-    const size_t positions = sunSteps(centreCol, centreRow, &up).size();
+    const size_t positions = plan->sunSteps(centreCol, centreRow, &up).size();
+    if (sunUpSteps) *sunUpSteps = up;
     double lon = 0.0, lat = 0.0;
-    places.lonLat(centreCol, centreRow, lon, lat);
-    const double convergence = places.convergenceDeg(centreCol, centreRow);
-    s.stepsAt = [&](double col, double row) { return sunSteps(col, row, nullptr); };
-    const CivilDate first = civilFromDays(o.dates.firstDay), last = civilFromDays(o.dates.lastDay);
-    const std::string span = fmt::format("{:04}-{:02}-{:02}/{:04}-{:02}-{:02}", first.year, first.month, first.day,
-                                         last.year, last.month, last.day);
+    plan->places.lonLat(centreCol, centreRow, lon, lat);
+    const double convergence = plan->places.convergenceDeg(centreCol, centreRow);
+    const std::string span = dateSpanText(o.dates);
+    const int64_t days = (o.dates.lastDay - o.dates.firstDay) / o.dayStep + 1;
     const int64_t blocks = ((dem.grid.width() + InsolationSettings::kSunBlock - 1) / InsolationSettings::kSunBlock) *
                            ((dem.grid.height() + InsolationSettings::kSunBlock - 1) / InsolationSettings::kSunBlock);
     listener.tell(fmt::format("insolation over {} ({} days, {} computed), {} sun positions ({} with the sun up) over "
@@ -361,10 +438,6 @@ void writeInsolationMap(const InsolationMapOptions& o, const RunListener& listen
                               "over each of {} blocks of {} x {} vertices",
                               span, o.dates.lastDay - o.dates.firstDay + 1, days, positions, up, lat, lon, -convergence,
                               blocks, InsolationSettings::kSunBlock, InsolationSettings::kSunBlock));
-    checkRasterJob(dem, o.dem.maxMemoryBytes, kInsolationBands, RasterType::Float32, 0.0, "insolation bands");
-    s.threads = o.threads;
-    listener.at("insolation");
-    const auto start = std::chrono::steady_clock::now();
     RasterLabels labels;
     labels.bands = {"beam (direct) irradiation", "diffuse irradiation", "ground-reflected irradiation",
                     "global irradiation", "hours of direct sun"};
@@ -380,13 +453,24 @@ void writeInsolationMap(const InsolationMapOptions& o, const RunListener& listen
                        {"TERRACAST_MAX_DISTANCE_M", number(o.maxDistanceM)},
                        {"TERRACAST_CURVATURE_COEFF", number(o.curvatureCoeff)},
                        {"TERRACAST_METHOD", surfaceMethodName(o.method)}};
-    VertexProduct product{kInsolationBands, RasterType::Float32, -9999.0, std::move(labels),
-                          [&](const VertexWindow& w, const MapProgress& progress) {
-                              InsolationSettings tile = s;
-                              tile.window = w;
-                              tile.progress = progress;
-                              return insolationMap(dem.grid, tile);
-                          }};
+    return {kInsolationBands, RasterType::Float32, -9999.0, std::move(labels),
+            [&grid = dem.grid, plan](const VertexWindow& w, const MapProgress& progress) {
+                InsolationSettings tile = plan->s;
+                tile.window = w;
+                tile.progress = progress;
+                return insolationMap(grid, tile);
+            }};
+}
+
+void writeInsolationMap(const InsolationMapOptions& o, const RunListener& listener) {
+    checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
+    checkInsolationOptions(o);
+    const LoadedDem dem = loadDemSource(o.dem, listener, true);
+    int64_t up = 0;
+    VertexProduct product = insolationProduct(o, dem, listener, &up);
+    checkRasterJob(dem, o.dem.maxMemoryBytes, kInsolationBands, RasterType::Float32, 0.0, "insolation bands");
+    listener.at("insolation");
+    const auto start = std::chrono::steady_clock::now();
     const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
     tellRasterSummary(listener, "insolation", o.output, count, count.width * count.height * up,
                       "vertex-sun positions", start);
@@ -418,19 +502,46 @@ ViewshedValues parseViewshedValues(const std::string& text, const std::string& o
     throw InputError(fmt::format("{}: expected visible, angle or height, found '{}'", option, text));
 }
 
-void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) {
-    checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
+namespace {
+
+void checkViewshedOptions(const ViewshedMapOptions& o) {
     if (!o.observersFile.empty() && o.values != ViewshedValues::Visible)
         throw InputError("viewshed --values: angle and height are for one --observer; --observers counts visibility");
     if (!std::isfinite(o.observerHeightM) || !std::isfinite(o.targetHeightM) || !std::isfinite(o.curvatureCoeff))
         throw InputError("--observer-height, --target-height and --curvature-coeff must be finite numbers");
     if (!(o.maxDistanceM >= 0.0) || !std::isfinite(o.maxDistanceM))
         throw InputError(fmt::format("viewshed --max-distance: expected metres >= 0, found {}", o.maxDistanceM));
+    requireDirectMethod(o.method, "viewshed");
+}
+
+// What a viewshed product's windows share: each observer's settings and place, and (unless each would hold a
+// curved copy of the grid) the makers of their viewsheds, kept for the whole run.
+struct ViewshedPlan {
+    std::vector<ViewshedSettings> observers;
+    std::vector<std::string> where;
+    bool keepMakers = true;
+    std::vector<std::function<MapRaster(const VertexWindow&, const MapProgress&)>> makers;
+
+    std::function<MapRaster(const VertexWindow&, const MapProgress&)> makerFor(const HeightGrid& grid, size_t k) const {
+        try {
+            return viewshedMaker(grid, observers[k]);
+        } catch (const GridError& e) {
+            throw InputError(fmt::format("{}: {}", where[k], e.what()));
+        }
+    }
+};
+
+}  // namespace
+
+VertexProduct viewshedProduct(const ViewshedMapOptions& o, const LoadedDem& dem, int64_t* observerCount) {
+    checkViewshedOptions(o);
     ViewshedSettings s;
     s.method = requireDirectMethod(o.method, "viewshed");
-    // The curved earth traces a lowered copy of the grid (for tiles, a second tile cache over the same source);
-    // either reads only the tiles it needs.
-    const LoadedDem dem = loadDemSource(o.dem, listener, true);
+    s.targetHeightM = o.targetHeightM;
+    s.values = o.values;
+    s.curvatureCoeff = o.curvatureCoeff;
+    s.maxDistanceM = o.maxDistanceM;
+    s.threads = o.threads;
     // The observers: one from --observer, or every point of --observers.
     std::vector<SitePoint> sites;
     if (!o.observersFile.empty()) {
@@ -440,53 +551,37 @@ void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) 
         if (o.lonLat) lonLatToSource(dem.geo, o.observerX, o.observerY, x, y);
         sites.push_back({x, y, std::nullopt, "--observer"});
     }
-    std::vector<glm::dvec3> observers;  // local x, y and height above the terrain
+    auto plan = std::make_shared<ViewshedPlan>();
     for (const SitePoint& p : sites) {
-        double xM = 0.0, yM = 0.0;
-        observerToLocal(dem, p.x, p.y, p.where, xM, yM);
-        observers.push_back({xM, yM, p.heightM.value_or(o.observerHeightM)});
+        ViewshedSettings one = s;
+        observerToLocal(dem, p.x, p.y, p.where, one.observerXM, one.observerYM);
+        one.observerHeightM = p.heightM.value_or(o.observerHeightM);
+        plan->observers.push_back(one);
+        plan->where.push_back(p.where);
     }
-    s.targetHeightM = o.targetHeightM;
-    s.values = o.values;
-    s.curvatureCoeff = o.curvatureCoeff;
-    s.maxDistanceM = o.maxDistanceM;
-    s.threads = o.threads;
+    const size_t n = plan->observers.size();
+    if (observerCount) *observerCount = int64_t(n);
     // With many observers, each one's raster beside the running count; with curvature, a lowered copy of the
     // grid (heights as floats, their validity and pyramid; for tiles, a second cache).
     const double loweredBytes =
-        s.curvatureCoeff == 0.0 ? 0.0
+        o.curvatureCoeff == 0.0 ? 0.0
         : dem.grid.tiled()      ? double(dem.grid.tileSource()->cacheBudgetBytes())
                                 : double(dem.grid.memoryBytes()) + 5.0 * double(dem.grid.width()) * double(dem.grid.height());
-    checkRasterJob(dem, o.dem.maxMemoryBytes, observers.size() > 1 ? 2 : 1, RasterType::Float32, loweredBytes,
-                   "the viewshed");
-    listener.at("viewshed");
-    const auto start = std::chrono::steady_clock::now();
+    checkRasterJob(dem, o.dem.maxMemoryBytes, n > 1 ? 2 : 1, RasterType::Float32, loweredBytes, "the viewshed");
     // Each observer's viewshed a window at a time. Makers are kept for the whole run, unless each would hold a
     // curved copy of the grid: then one is made per window and observer, one copy at a time.
-    const size_t n = observers.size();
-    const auto makerFor = [&](size_t k) {
-        ViewshedSettings one = s;
-        one.observerXM = observers[k].x;
-        one.observerYM = observers[k].y;
-        one.observerHeightM = observers[k].z;
-        try {
-            return viewshedMaker(dem.grid, one);
-        } catch (const GridError& e) {
-            throw InputError(fmt::format("{}: {}", sites[k].where, e.what()));
-        }
-    };
-    const bool keepMakers = n == 1 || s.curvatureCoeff == 0.0;
-    std::vector<std::function<MapRaster(const VertexWindow&, const MapProgress&)>> makers;
-    if (keepMakers)
-        for (size_t k = 0; k < n; ++k) makers.push_back(makerFor(k));
-    const auto cumulative = [&](const VertexWindow& w, const MapProgress& progress) {
+    plan->keepMakers = n == 1 || s.curvatureCoeff == 0.0;
+    if (plan->keepMakers)
+        for (size_t k = 0; k < n; ++k) plan->makers.push_back(plan->makerFor(dem.grid, k));
+    const auto cumulative = [&grid = dem.grid, plan](const VertexWindow& w, const MapProgress& progress) {
         MapRaster count;
+        const size_t n = plan->observers.size();
         const int64_t vertices = (w.i1 - w.i0) * (w.j1 - w.j0);
         for (size_t k = 0; k < n; ++k) {
             const MapProgress one = [&, k](double f, int64_t rays) {
                 progress((double(k) + f) / double(n), int64_t(k) * vertices + rays);
             };
-            MapRaster seen = keepMakers ? makers[k](w, one) : makerFor(k)(w, one);
+            MapRaster seen = plan->keepMakers ? plan->makers[k](w, one) : plan->makerFor(grid, k)(w, one);
             if (k == 0) count = std::move(seen);
             else
                 for (size_t v = 0; v < count.values.size(); ++v) count.values[v] += seen.values[v];
@@ -517,11 +612,23 @@ void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) 
                                                      : o.values == ViewshedValues::Angle ? "angle" : "height");
     // Counts up to 254 fit a byte beside the nodata value 255.
     const bool bytes = n <= 254 && o.values == ViewshedValues::Visible;
-    VertexProduct product{1, bytes ? RasterType::Byte : RasterType::Float32, bytes ? 255.0 : -9999.0,
-                          std::move(labels), cumulative};
+    return {1, bytes ? RasterType::Byte : RasterType::Float32, bytes ? 255.0 : -9999.0, std::move(labels), cumulative};
+}
+
+void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) {
+    checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
+    checkViewshedOptions(o);
+    // The curved earth traces a lowered copy of the grid (for tiles, a second tile cache over the same source);
+    // either reads only the tiles it needs.
+    const LoadedDem dem = loadDemSource(o.dem, listener, true);
+    int64_t n = 1;
+    VertexProduct product = viewshedProduct(o, dem, &n);  // checks the job's memory
+    listener.at("viewshed");
+    const auto start = std::chrono::steady_clock::now();
+    const bool many = !o.observersFile.empty();
     const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
     if (many) listener.tell(fmt::format("{} observers from {}", n, o.observersFile));
-    tellRasterSummary(listener, many ? "cumulative viewshed" : "viewshed", o.output, count, count.valid * int64_t(n),
+    tellRasterSummary(listener, many ? "cumulative viewshed" : "viewshed", o.output, count, count.valid * n,
                       "sight lines", start);
 }
 

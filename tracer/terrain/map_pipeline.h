@@ -10,11 +10,17 @@
 #include "tracer/sky/calendar.h"
 #include "tracer/terrain/dem_pipeline.h"
 #include "tracer/terrain/maps.h"
+#include "tracer/terrain/tiled_product.h"
 
 #include <string>
 #include <vector>
 
 namespace terracast {
+
+// Each product is planned on a loaded DEM (xxxProduct: its options checked, all but the output path and the DEM
+// source; its sample type, labels and per-window computation, which refers to `dem`: the DEM must outlive it),
+// then written (writeXxxMap: load, plan, write tile by tile, summary) or computed into arrays by the Python
+// module, so that both hold the same samples.
 
 // `shadow`: 1 blocked, 0 lit per vertex (or the blocked fraction of the sun's disc).
 struct ShadowMapOptions {
@@ -31,6 +37,7 @@ struct ShadowMapOptions {
     SurfaceMethod method = SurfaceMethod::Bilinear;
     int threads = 0;
 };
+VertexProduct shadowProduct(const ShadowMapOptions& options, const LoadedDem& dem, const RunListener& listener);
 void writeShadowMap(const ShadowMapOptions& options, const RunListener& listener);
 
 // `horizon`: the horizon's elevation angle in degrees per vertex towards one azimuth, or one band per azimuth.
@@ -63,7 +70,9 @@ struct SkyViewMapOptions {
     SurfaceMethod method = SurfaceMethod::Bilinear;
     int threads = 0;
 };
+VertexProduct skyViewProduct(const SkyViewMapOptions& options, const LoadedDem& dem);
 void writeSkyViewMap(const SkyViewMapOptions& options, const RunListener& listener);
+VertexProduct horizonProduct(const HorizonMapOptions& options, const LoadedDem& dem);
 void writeHorizonMap(const HorizonMapOptions& options, const RunListener& listener);
 
 // A span of whole days, both ends included, as days since 1970-01-01.
@@ -94,6 +103,9 @@ struct InsolationMapOptions {
     SurfaceMethod method = SurfaceMethod::Bilinear;
     int threads = 0;
 };
+// `sunUpSteps`, when given, receives the sun positions above the horizon over the DEM's centre.
+VertexProduct insolationProduct(const InsolationMapOptions& options, const LoadedDem& dem, const RunListener& listener,
+                                int64_t* sunUpSteps = nullptr);
 void writeInsolationMap(const InsolationMapOptions& options, const RunListener& listener);
 
 // `viewshed`: 1 visible, 0 hidden, 255 nodata per vertex.
@@ -116,6 +128,9 @@ struct ViewshedMapOptions {
 
 // Parses "visible", "angle" or "height"; throws InputError naming `option`.
 ViewshedValues parseViewshedValues(const std::string& text, const std::string& option);
+// Checks the job against options.dem.maxMemoryBytes (a curved copy of the grid, the running count) before it
+// makes the observers' viewsheds; `observerCount`, when given, receives the number of observers.
+VertexProduct viewshedProduct(const ViewshedMapOptions& options, const LoadedDem& dem, int64_t* observerCount = nullptr);
 void writeViewshedMap(const ViewshedMapOptions& options, const RunListener& listener);
 
 }  // namespace terracast

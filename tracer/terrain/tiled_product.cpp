@@ -4,6 +4,7 @@
 #include "tracer/core/ranks.h"
 #include "tracer/core/resources.h"
 #include "tracer/core/text.h"
+#include "tracer/terrain/dem_pipeline.h"
 #include "tracer/terrain/memory_model.h"
 
 #include <fmt/format.h>
@@ -30,6 +31,41 @@ std::string demIdentity(const LoadedDem& dem) {
 }
 
 }  // namespace
+
+int64_t computeVertexProduct(const HeightGrid& grid, const VertexProduct& product, void* out,
+                             const MapProgress& progress) {
+    const int64_t width = grid.width(), height = grid.height();
+    const size_t rowValues = size_t(width) * size_t(product.bands);
+    // Bands of rows of about 2^20 values: enough work for every thread, little memory beside the output.
+    const int64_t rowsPerBand =
+        std::clamp<int64_t>((int64_t(1) << 20) / std::max<int64_t>(width * product.bands, 1), 1, height);
+    int64_t rays = 0;
+    for (int64_t j0 = 0; j0 < height; j0 += rowsPerBand) {
+        throwIfCancelled();
+        const int64_t j1 = std::min(height, j0 + rowsPerBand);
+        int64_t bandRays = 0;
+        const MapProgress inBand = [&](double f, int64_t r) {
+            bandRays = r;
+            if (progress) progress((double(j0) + f * double(j1 - j0)) / double(height), rays + r);
+        };
+        const MapRaster r = product.compute(VertexWindow{0, j0, width, j1}, inBand);
+        rays += bandRays;
+        for (int64_t j = j0; j < j1; ++j) {
+            const float* source = r.values.data() + size_t(j - j0) * rowValues;
+            const size_t row = size_t(height - 1 - j);  // north first
+            if (product.type == RasterType::Byte) {
+                uint8_t* target = static_cast<uint8_t*>(out) + row * rowValues;
+                for (size_t k = 0; k < rowValues; ++k)
+                    target[k] = rasterByte(std::isnan(source[k]) ? float(product.noData) : source[k]);
+            } else {
+                std::copy(source, source + rowValues, static_cast<float*>(out) + row * rowValues);
+            }
+        }
+    }
+    throwIfCancelled();
+    if (progress) progress(1.0, rays);
+    return rays;
+}
 
 // Writes a per-vertex product on the DEM's own grid as a COG, computed and written an output tile at a time
 // (docs/architecture.md, "Tiled outputs"): NaN becomes `noData`; with `resume` the tiles an interrupted run of

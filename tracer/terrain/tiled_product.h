@@ -3,7 +3,8 @@
 // (docs/architecture.md, "Tiled outputs"), shared by the map commands of map_pipeline.cpp.
 
 #include "loaders/raster_writer.h"
-#include "tracer/terrain/dem_pipeline.h"
+#include "loaders/dem_loader.h"
+#include "tracer/core/listener.h"
 #include "tracer/terrain/maps.h"
 
 #include <chrono>
@@ -52,6 +53,14 @@ struct ProductCount {
 // draws from a shared count, and the leader makes the COG.
 ProductCount writeVertexProduct(const std::string& path, bool resume, const LoadedDem& dem, VertexProduct product,
                                 const RunListener& listener);
+
+// A per-vertex product computed whole into memory, holding the samples its GeoTIFF holds: `out` has room for
+// width x height x bands samples of product.type (uint8_t or float), rows north first, bands interleaved by
+// vertex; Byte samples as rasterByte stores them with NaN as product.noData, Float32 samples with NaN kept where
+// the file holds product.noData. Computed a band of rows at a time; `progress` hears the share done and the rays
+// so far, and cancellation (tracer/core/cancel.h) is honoured between bands. Returns the rays traced.
+int64_t computeVertexProduct(const HeightGrid& grid, const VertexProduct& product, void* out,
+                             const MapProgress& progress = {});
 
 // The memory guard for a per-vertex product of `bands` bands written as `type`, with `more` bytes besides
 // (a curved grid, a second raster); `what` names the job in the refusal.

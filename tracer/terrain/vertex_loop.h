@@ -41,11 +41,15 @@ MapRaster forVertices(const HeightGrid& grid, const VertexWindow& window, int ba
     parallelForTiles(wholeRows ? 1 : int(r.width), int(r.height), wholeRows ? 4 : 64, threads,
                      [&](int x0, int y0, int x1, int y1) {
                          const int64_t a0 = wholeRows ? 0 : x0, a1 = wholeRows ? r.width : x1;
-                         for (int64_t b = y0; b < y1; ++b)
+                         for (int64_t b = y0; b < y1; ++b) {
                              for (int64_t a = a0; a < a1; ++a) {
+                                 // A task may hold many rows, and a vertex many horizon walks: a
+                                 // cancellation is seen at the next vertex.
+                                 if (cancelFlag().load(std::memory_order_relaxed)) return;
                                  const int64_t i = w.i0 + a, j = w.j0 + b;
                                  f(i, j, &r.values[size_t((b * r.width + a) * bands)], i % 64 == 0, a == 0);
                              }
+                         }
                          const int64_t now = done += (a1 - a0) * (y1 - y0);
                          if (progress) {
                              std::lock_guard lock(progressMutex);
