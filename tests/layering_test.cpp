@@ -48,7 +48,7 @@ const std::vector<Rule>& rules() {
             {"tracer/scene/", with(base, {"tracer/scene/", "tracer/terrain/", "loaders/"})},
             {"tracer/measure/", with(base, {"tracer/measure/", "tracer/terrain/", "loaders/"})},
             {"cli/", with(base, {"tracer/", "loaders/", "cli/"})},
-            {"python/", with(base, {"tracer/", "loaders/"})},
+            {"python/", with(base, {"tracer/", "loaders/", "python/"})},
             {"bench/", {"*"}},
             {"examples/", {"*"}},
             {"fuzz/", {"*"}},
