@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -45,10 +46,42 @@ Ray rayAt(const double* o, const double* d, size_t k) {
     return Ray{{o[3 * k], o[3 * k + 1], o[3 * k + 2]}, {d[3 * k], d[3 * k + 1], d[3 * k + 2]}};
 }
 
+// Where each ray's search ends, in units of its direction's length: None (no end), one number, or one per ray.
+class RayEnds {
+public:
+    RayEnds(const py::object& tMax, size_t n) {
+        if (tMax.is_none()) return;
+        if (py::isinstance<py::float_>(tMax) || py::isinstance<py::int_>(tMax)) {
+            one_ = tMax.cast<double>();
+        } else {
+            array_ = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(tMax);
+            if (!array_ || array_.ndim() != 1 || size_t(array_.shape(0)) != n)
+                throw py::value_error("t_max: expected a number or an (N,) array matching the rays (N = " +
+                                      std::to_string(n) + ")");
+            each_ = array_.data();
+        }
+        for (size_t k = 0; k < (each_ ? n : 1); ++k) {
+            const double t = each_ ? each_[k] : one_;
+            if (!(t > 0.0)) throw py::value_error("t_max: expected distances > 0, found " + std::to_string(t));
+        }
+    }
+    Interval at(size_t k) const { return {0.0, each_ ? each_[k] : one_}; }
+
+private:
+    double one_ = kInfinity;
+    py::array_t<double, py::array::c_style | py::array::forcecast> array_;
+    const double* each_ = nullptr;
+};
+
 // Calls body(k) for every ray on `threads` threads (0: all cores), watched (core.h): progress counts rays, and a
 // cancellation skips the remaining chunks.
+// The seconds the last forEachRay spent in its loop over the rays, for the bench: what a Python call takes
+// beyond it is the binding's overhead.
+std::atomic<double> lastLoopSeconds{0.0};
+
 void forEachRay(size_t n, int threads, const py::object& progress, const std::function<void(size_t)>& body) {
     runWatched<int>(progress, [&](WorkProgress& state) {
+        const auto start = std::chrono::steady_clock::now();
         std::atomic<int64_t> done{0};
         tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
         arena.execute([&] {
@@ -59,14 +92,16 @@ void forEachRay(size_t n, int threads, const py::object& progress, const std::fu
                 state(n > 0 ? double(total) / double(n) : 1.0, total);
             });
         });
+        lastLoopSeconds.store(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
         throwIfCancelled();
         return 0;
     });
 }
 
 py::dict traceFirstHits(PyHeightField& hf, const Rays& origins, const Rays& directions, const std::string& method,
-                        int threads, const py::object& progress) {
+                        const py::object& tMax, int threads, const py::object& progress) {
     const size_t n = rayCount(origins, directions);
+    const RayEnds ends(tMax, n);
     checkThreads(threads);
     const TerrainSurface& surface = hf.surface(methodOf(method));
     py::array_t<double> t{py::ssize_t(n)};
@@ -79,7 +114,7 @@ py::dict traceFirstHits(PyHeightField& hf, const Rays& origins, const Rays& dire
     double* np = normal.mutable_data();
     bool* hp = hit.mutable_data();
     forEachRay(n, threads, progress, [&](size_t k) {
-        const auto h = surface.intersect(rayAt(o, d, k), {0.0, kInfinity});
+        const auto h = surface.intersect(rayAt(o, d, k), ends.at(k));
         hp[k] = h.has_value();
         tp[k] = h ? h->t : std::numeric_limits<double>::infinity();
         for (int c = 0; c < 3; ++c) {
@@ -96,15 +131,17 @@ py::dict traceFirstHits(PyHeightField& hf, const Rays& origins, const Rays& dire
 }
 
 py::array_t<bool> traceOcclusion(PyHeightField& hf, const Rays& origins, const Rays& directions,
-                                 const std::string& method, int threads, const py::object& progress) {
+                                 const std::string& method, const py::object& tMax, int threads,
+                                 const py::object& progress) {
     const size_t n = rayCount(origins, directions);
+    const RayEnds ends(tMax, n);
     checkThreads(threads);
     const TerrainSurface& surface = hf.surface(methodOf(method));
     py::array_t<bool> out{py::ssize_t(n)};
     const double* o = origins.data();
     const double* d = directions.data();
     bool* p = out.mutable_data();
-    forEachRay(n, threads, progress, [&](size_t k) { p[k] = surface.occluded(rayAt(o, d, k), {0.0, kInfinity}); });
+    forEachRay(n, threads, progress, [&](size_t k) { p[k] = surface.occluded(rayAt(o, d, k), ends.at(k)); });
     return out;
 }
 
@@ -255,7 +292,9 @@ std::string describe(const PyHeightField& hf) {
 
 }  // namespace
 
-void bindHeightField(py::module_&, py::class_<PyHeightField>& cls) {
+void bindHeightField(py::module_& m, py::class_<PyHeightField>& cls) {
+    m.def("_last_loop_seconds", [] { return lastLoopSeconds.load(); },
+          "Bench support: the seconds the last intersect or occluded call spent tracing its rays, timed in C++.");
     cls.def_static("open", &openFile, py::arg("path"), py::arg("cell_size") = 1.0, py::arg("height_scale") = 1.0,
                    "Reads a DEM (GeoTIFF, .hgt, anything GDAL reads, or an 8/16-bit PNG height map).\n\n"
                    "cell_size: metres between samples of a raster without georeference (default 1).\n"
@@ -301,17 +340,20 @@ void bindHeightField(py::module_&, py::class_<PyHeightField>& cls) {
             "The GDAL geotransform of the source raster (None without georeference); every map product's array\n"
             "lies on it.")
         .def("intersect", &traceFirstHits, py::arg("origins"), py::arg("directions"), py::arg("method") = "bilinear",
-             py::arg("threads") = 0, py::arg("progress") = py::none(),
+             py::arg("t_max") = py::none(), py::arg("threads") = 0, py::arg("progress") = py::none(),
              "Where each ray first meets the surface: a dict of arrays 't' (N; distance in units of the direction's "
              "length, inf where the ray misses), 'point' (N, 3; NaN on a miss), 'normal' (N, 3; unit, pointing up) "
              "and 'hit' (N; bool).\n\norigins, directions: (N, 3) arrays in local metres (x east, y north, z up, "
              "origin at the south-west vertex).\n"
              "method: bilinear (default), bilinear-double, triangles, nearest, reference, embree, embree-grid.\n"
+             "t_max: where the search ends, in units of the direction's length: None (default: no end), a\n"
+             "  number or an (N,) array. With directions from an eye to targets and t_max=1 the rays are the\n"
+             "  sight lines between them.\n"
              "threads: worker threads, 0 = all cores (default).\n"
              "progress: None or a function called with (share done, rays so far) while it runs.\n"
              "The GIL is released while the rays are traced; Ctrl-C stops the work and raises KeyboardInterrupt.")
         .def("occluded", &traceOcclusion, py::arg("origins"), py::arg("directions"), py::arg("method") = "bilinear",
-             py::arg("threads") = 0, py::arg("progress") = py::none(),
+             py::arg("t_max") = py::none(), py::arg("threads") = 0, py::arg("progress") = py::none(),
              "Whether each ray meets the surface at all (an (N,) bool array): line of sight, shadow tests.\n"
              "Arguments as intersect's.")
         .def("__repr__", &describe);

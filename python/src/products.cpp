@@ -3,6 +3,7 @@
 // so that an array holds the samples the command's GeoTIFF holds, and perspective renders.
 #include "python/src/core.h"
 
+#include "loaders/crs.h"
 #include "loaders/image_io.h"
 #include "loaders/scene_assets.h"
 #include "tracer/core/errors.h"
@@ -368,6 +369,13 @@ py::array render(PyHeightField& hf, const py::object& size, const py::object& su
     return out;
 }
 
+py::tuple sunAt(PyHeightField& hf, const py::object& when) {
+    double az = 0.0, el = 0.0;
+    placeSunOverGrid(instantOf(when, "when"), hf.dem().geo, hf.grid().width(), hf.grid().height(),
+                     hf.dem().path + ": sun_at", az, el);
+    return py::make_tuple(az, el);
+}
+
 }  // namespace
 
 void bindProducts(py::module_&, py::class_<PyHeightField>& cls) {
@@ -378,6 +386,11 @@ void bindProducts(py::module_&, py::class_<PyHeightField>& cls) {
         "threads: worker threads, 0 = all cores (default).\n"
         "progress: None or a function called with (share done, rays so far) while it runs.\n"
         "The GIL is released while it runs; Ctrl-C stops it between tiles and raises KeyboardInterrupt.";
+    cls.def("sun_at", &sunAt, py::arg("when"),
+            "Where the sun stands at an instant over the DEM's centre, as sun_time places it: (azimuth,\n"
+            "elevation) in degrees, the azimuth clockwise from the grid's north, the apparent elevation with\n"
+            "refraction (NOAA's equations).\n\n"
+            "when: an ISO 8601 time such as '2026-06-21T15:00Z' or an aware datetime. The DEM needs a CRS.");
     cls.def("shadow", &shadow, py::arg("sun") = py::make_tuple(315.0, 35.0), py::kw_only(), py::arg("sun_size") = 0.0,
             py::arg("sun_time") = py::none(), py::arg("max_distance") = 0.0, py::arg("curvature_coeff") = 0.0,
             py::arg("method") = "bilinear", py::arg("threads") = 0, py::arg("progress") = py::none(),

@@ -44,6 +44,7 @@ class HeightField:
         origins: npt.ArrayLike,
         directions: npt.ArrayLike,
         method: str = "bilinear",
+        t_max: Optional[Union[float, npt.ArrayLike]] = None,
         threads: int = 0,
         progress: Progress = None,
     ) -> Dict[str, np.ndarray]: ...
@@ -52,9 +53,11 @@ class HeightField:
         origins: npt.ArrayLike,
         directions: npt.ArrayLike,
         method: str = "bilinear",
+        t_max: Optional[Union[float, npt.ArrayLike]] = None,
         threads: int = 0,
         progress: Progress = None,
     ) -> np.ndarray: ...
+    def sun_at(self, when: Instant) -> Tuple[float, float]: ...
     def shadow(
         self,
         sun: Sun = (315.0, 35.0),

@@ -135,3 +135,22 @@ def test_exact_and_embree_agree_on_a_real_dem_and_occlusion_matches_hits():
     # Occlusion is the any-hit query: it agrees with the first-hit query but for rays that graze the surface
     # within float tolerance.
     assert (hf.occluded(origins, directions) != exact["hit"]).mean() < 1e-4
+
+
+def test_t_max_ends_each_search_where_asked():
+    hf = terracast.HeightField.from_array(tilted_plane(), cell_size=10.0)
+    origins, directions = vertical_rays(1000, 300.0, 200.0, seed=5)
+    ground = 2.0 + 0.5 * origins[:, 0] + 0.25 * origins[:, 1]
+    reach = 1000.0 - ground  # where each ray meets the plane
+    # Half the rays stop 1 cm short of the plane, half 1 cm beyond it.
+    short = np.arange(1000) % 2 == 0
+    t_max = np.where(short, reach - 0.01, reach + 0.01)
+    r = hf.intersect(origins, directions, method="bilinear-double", t_max=t_max)
+    assert np.array_equal(r["hit"], ~short)
+    assert np.array_equal(hf.occluded(origins, directions, t_max=t_max), ~short)
+    # One number for all: a sight line from above to a point on the far side of a ridge.
+    assert not hf.occluded(origins, directions, t_max=float(reach.min()) - 0.01).any()
+    with pytest.raises(ValueError, match="t_max"):
+        hf.occluded(origins, directions, t_max=np.ones(3))
+    with pytest.raises(ValueError, match="t_max"):
+        hf.occluded(origins, directions, t_max=-1.0)

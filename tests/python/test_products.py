@@ -95,6 +95,10 @@ def test_products_take_the_sun_as_text_tuple_time_or_datetime(helens):
     assert one.shape == helens.shape
     assert np.array_equal(one, helens.shadow(sun_time="2026-06-21T15:00Z"))
     assert np.array_equal(one, helens.shadow(sun_time=["2026-06-21T15:00Z"])[:, :, 0])
+    # sun_at says where sun_time puts the sun: in the afternoon, west of south and above the horizon.
+    azimuth, elevation = helens.sun_at("2026-06-21T23:00Z")
+    assert 200 < azimuth < 300 and 10 < elevation < 50
+    assert np.array_equal(helens.shadow((azimuth, elevation)), helens.shadow(sun_time="2026-06-21T23:00Z"))
 
 
 def test_a_render_equals_the_cli_picture(helens, tmp_path):
