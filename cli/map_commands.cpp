@@ -46,8 +46,8 @@ void addMapCommands(CLI::App& app, Commands& commands) {
         cmd->add_option("--sun-size", t->options.sunSizeDeg,
                         "Sun's angular diameter in degrees; > 0 gives the blocked fraction (default 0: a point)");
         cmd->add_option("--sun-time", t->sunTime,
-                        "START/END/STEP (ISO 8601 times, a step such as 30m or 1h): one band per time, the sun where "
-                        "it stands then over the DEM's centre; replaces --sun");
+                        "An ISO 8601 time (2026-06-21T15:00Z), or START/END/STEP (a step such as 30m or 1h): one "
+                        "band per time, the sun where it stands then over the DEM's centre; replaces --sun");
         addSearchOptions(*cmd, t->options.maxDistanceM, t->options.curvatureCoeff,
                          "Metres beyond which terrain casts no shadow (default 0: the whole DEM)");
         addThreadsAndMethod(*cmd, t->options.threads, t->method);

@@ -87,6 +87,28 @@ def test_every_map_product_equals_the_cli_file_sample_for_sample(helens, tmp_pat
                             "--sky-samples", "4"))
 
 
+@pytest.mark.parametrize("dem", ["N44W072.srtm3-white-mountains-nh.hgt",
+                                 "srtm3-n43e007-nice-maritime-alps-coast-geographic-int16.tif",
+                                 "landfire-storm-lake-mt-utm12n-int16-small-nodata.tif"])
+def test_geographic_and_other_dems_give_the_cli_samples_too(dem, tmp_path):
+    path = os.path.join(SAMPLES, dem)
+    hf = terracast.HeightField.open(path)
+    for command, options, ours in [
+            ("shadow", ["--sun-time", "2026-12-21T14:00Z"], lambda: hf.shadow(sun_time="2026-12-21T14:00Z")),
+            ("shadow", ["--sun-time", "2026-12-21T13:00Z/2026-12-21T15:00Z/1h"],
+             lambda: hf.shadow(sun_time=["2026-12-21T13:00Z", "2026-12-21T14:00Z", "2026-12-21T15:00Z"])),
+            ("horizon", ["--azimuth", "100", "--max-distance", "5000"],
+             lambda: hf.horizon(100.0, max_distance=5000.0, threads=1))]:
+        out = str(tmp_path / f"{command}.tif")
+        run_cli(command, path, "-o", out, *options)
+        ds = gdal.Open(out)
+        bands = [ds.GetRasterBand(k + 1) for k in range(ds.RasterCount)]
+        theirs = np.stack([b.ReadAsArray() for b in bands], axis=-1)
+        if theirs.dtype == np.float32:
+            theirs[theirs == np.float32(bands[0].GetNoDataValue())] = np.nan
+        same_samples(ours(), theirs[:, :, 0] if len(bands) == 1 else theirs)
+
+
 def test_products_take_the_sun_as_text_tuple_time_or_datetime(helens):
     import datetime
     assert np.array_equal(helens.shadow("315,20"), helens.shadow((315, 20)))

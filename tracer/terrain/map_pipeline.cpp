@@ -90,13 +90,19 @@ std::vector<double> parseAzimuthRange(const std::string& text, const std::string
 
 std::vector<UtcInstant> parseSunTimeRange(const std::string& text, const std::string& option) {
     auto fail = [&](const std::string& why) {
-        return InputError(fmt::format("{}: expected START/END/STEP such as 2026-06-21T04:00Z/2026-06-21T20:00Z/30m, "
-                                      "found '{}' ({})",
+        return InputError(fmt::format("{}: expected an ISO 8601 time such as 2026-06-21T15:00Z or START/END/STEP such "
+                                      "as 2026-06-21T04:00Z/2026-06-21T20:00Z/30m, found '{}' ({})",
                                       option, text, why));
     };
+    std::string why;
+    if (text.find('/') == std::string::npos) {
+        // One instant.
+        const auto when = parseIsoTime(text, why);
+        if (!when) throw fail(why);
+        return {*when};
+    }
     const size_t a = text.find('/'), b = a == std::string::npos ? a : text.find('/', a + 1);
     if (b == std::string::npos || text.find('/', b + 1) != std::string::npos) throw fail("three parts separated by /");
-    std::string why;
     const auto start = parseIsoTime(text.substr(0, a), why);
     if (!start) throw fail("START: " + why);
     const auto end = parseIsoTime(text.substr(a + 1, b - a - 1), why);

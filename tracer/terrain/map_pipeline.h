@@ -52,8 +52,8 @@ struct HorizonMapOptions {
     int threads = 0;
 };
 
-// Parses "START/END/STEP": ISO 8601 times (as --sun-time) and a step such as 30m, 1h, 90s or 1d; END is included
-// when the steps land on it. Throws InputError naming `option`.
+// Parses one ISO 8601 time, or "START/END/STEP": ISO 8601 times and a step such as 30m, 1h, 90s or 1d (END
+// included when the steps land on it). Throws InputError naming `option`.
 std::vector<UtcInstant> parseSunTimeRange(const std::string& text, const std::string& option);
 
 // Parses "START:END:STEP" (degrees, END excluded, STEP > 0) into azimuths; throws InputError naming `option`.
