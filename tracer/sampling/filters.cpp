@@ -3,6 +3,7 @@
 #include <glm/gtc/constants.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 
@@ -19,6 +20,44 @@ constexpr std::pair<FilterKind, const char*> kFilterNames[] = {
 double gaussianIntegral(double radius, double alpha) {
     return std::sqrt(glm::pi<double>() / alpha) * std::erf(std::sqrt(alpha) * radius) - 2.0 * radius * std::exp(-alpha * radius * radius);
 }
+
+// The truncated Gaussian's terms that do not depend on x, and its density, distribution and inverse distribution
+// along one axis: the same expressions, to the bit, as PixelFilter::evaluate1D and cumulative1D.
+struct GaussianTerms {
+    GaussianTerms() = default;
+    GaussianTerms(double radius, double alpha)
+        : r(radius), alpha(alpha), k(std::sqrt(alpha)), half(0.5 * std::sqrt(glm::pi<double>() / alpha)),
+          erfKr(std::erf(k * radius)), expR(std::exp(-alpha * radius * radius)),
+          integral(gaussianIntegral(radius, alpha)) {}
+
+    double density(double x) const {
+        const double a = std::abs(x);
+        return a > r ? 0.0 : std::max(0.0, std::exp(-alpha * a * a) - expR) / integral;
+    }
+    double distribution(double x) const {
+        const double c = std::clamp(x, -r, r);
+        return std::clamp((half * (std::erf(k * c) + erfKr) - expR * (c + r)) / integral, 0.0, 1.0);
+    }
+    // The x where the distribution reaches u, to 1e-12: Newton's method from x, kept inside a shrinking bracket
+    // (a bisection step whenever Newton's would leave it); the distribution is smooth and increasing inside the
+    // support.
+    double inverse(double u, double x) const {
+        double lo = -r, hi = r;
+        for (int n = 0; n < 64; ++n) {
+            const double g = distribution(x) - u;
+            if (g < 0.0) lo = x;
+            else hi = x;
+            const double f = density(x);
+            double next = f > 0.0 ? x - g / f : 0.5 * (lo + hi);
+            if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+            if (std::abs(next - x) < 1e-12) return next;
+            x = next;
+        }
+        return x;
+    }
+
+    double r = 1.0, alpha = 2.0, k = 0.0, half = 0.0, erfKr = 0.0, expR = 0.0, integral = 1.0;
+};
 }  // namespace
 
 std::span<const FilterKind> filterKinds() {
@@ -94,20 +133,24 @@ double PixelFilter::sample1D(double u) const {
         // Inverting the two quadratic halves of the cumulative distribution.
         return u < 0.5 ? r * (std::sqrt(2.0 * u) - 1.0) : r * (1.0 - std::sqrt(2.0 - 2.0 * u));
     case FilterKind::Gaussian: {
-        // Newton's method on the cumulative distribution, kept inside a shrinking bracket (a bisection step
-        // whenever Newton's would leave it); the distribution is smooth and increasing inside the support.
-        double lo = -r, hi = r, x = 0.0;
-        for (int k = 0; k < 64; ++k) {
-            const double g = cumulative1D(x) - u;
-            if (g < 0.0) lo = x;
-            else hi = x;
-            const double f = evaluate1D(x);
-            double next = f > 0.0 ? x - g / f : 0.5 * (lo + hi);
-            if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-            if (std::abs(next - x) < 1e-12) return next;
-            x = next;
+        // A table per thread, made again when the filter changes: the filter's constant terms, and its inverse
+        // distribution at 256 steps of u, from which Newton's method starts (one or two steps left to take).
+        struct InverseTable {
+            double radius = 0.0, alpha = 0.0;
+            GaussianTerms terms;
+            std::array<double, 257> x{};
+        };
+        thread_local InverseTable table;
+        if (table.radius != r || table.alpha != alpha) {
+            table.radius = r;
+            table.alpha = alpha;
+            table.terms = GaussianTerms(r, alpha);
+            for (size_t k = 0; k < table.x.size(); ++k)
+                table.x[k] = k == 0 ? -r : k + 1 == table.x.size() ? r : table.terms.inverse(double(k) / 256.0, 0.0);
         }
-        return x;
+        const double at = std::clamp(u, 0.0, 1.0) * 256.0;
+        const size_t k = std::min<size_t>(size_t(at), 255);
+        return table.terms.inverse(u, table.x[k] + (at - double(k)) * (table.x[k + 1] - table.x[k]));
     }
     }
     return 0.0;

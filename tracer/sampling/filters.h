@@ -64,6 +64,7 @@ struct PixelFilter {
     // stay stratified. A sample so drawn has weight 1: its value enters the pixel's plain mean.
     glm::dvec2 offsetOf(glm::dvec2 u) const { return {sample1D(u.x), sample1D(u.y)}; }
     double sample1D(double u) const;
+
     // The filter's cumulative distribution along one axis: the integral of evaluate1D from -radius to x.
     double cumulative1D(double x) const;
 };
