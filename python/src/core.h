@@ -5,6 +5,7 @@
 #include "loaders/dem_loader.h"
 #include "tracer/core/cancel.h"
 #include "tracer/core/surface_method.h"
+#include "tracer/sampling/film.h"
 #include "tracer/terrain/surface.h"
 
 #include <pybind11/numpy.h>
@@ -125,5 +126,13 @@ void bindMeasures(py::module_& m, py::class_<PyHeightField>& cls);
 
 // The method named `name`, or ValueError listing the methods.
 SurfaceMethod methodOf(const std::string& name);
+
+// The DEM a view is made of: the height field's own (k = 1), or exaggerated by k: a file opened again as
+// `--exaggeration` opens it, an array's heights multiplied in a copy. ValueError for a factor it refuses.
+std::shared_ptr<const LoadedDem> exaggerated(PyHeightField& hf, double k);
+
+// A picture as an array (height, width, 3), row 0 at the top: 8-bit sRGB as PNG files hold it, or with `linear`
+// the linear float values an EXR holds.
+py::array pictureArray(const Film& film, bool linear);
 
 }  // namespace terracast::python

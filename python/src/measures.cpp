@@ -2,7 +2,6 @@
 // and terracast.render_scene (a scene file's picture as an array).
 #include "python/src/core.h"
 
-#include "loaders/image_io.h"
 #include "tracer/core/errors.h"
 #include "tracer/measure/accuracy.h"
 #include "tracer/measure/compare.h"
@@ -51,16 +50,7 @@ py::object compare(const py::object& demArg, const std::vector<int>& size, const
     checkViewValues(exaggeration, sun[1]);
     py::object opened;
     PyHeightField& hf = heightFieldOf(demArg, opened);
-    std::shared_ptr<const LoadedDem> dem(std::shared_ptr<const LoadedDem>{}, &hf.dem());
-    if (exaggeration != 1.0) {
-        if (hf.fromFile()) {
-            DemLoadOptions o = hf.loadOptions();
-            o.exaggeration = exaggeration;
-            dem = std::make_shared<const LoadedDem>(loadDem(hf.dem().path, o));
-        } else {
-            dem = std::make_shared<const LoadedDem>(exaggeratedDem(hf.dem(), exaggeration));
-        }
-    }
+    const std::shared_ptr<const LoadedDem> dem = exaggerated(hf, exaggeration);
     std::optional<PinholeCamera> cam;
     if (!camera.is_none()) {
         PinholeCamera c;
@@ -103,16 +93,7 @@ py::array renderScene(const std::string& path, const py::object& size, int spp, 
         listener.progress = [&](double f, int64_t r) { state(f, r); };
         return renderSceneFile(o, listener);
     });
-    const std::vector<py::ssize_t> shape{film.height, film.width, 3};
-    if (linear) {
-        py::array_t<float> out(shape);
-        std::copy(film.rgb.begin(), film.rgb.end(), out.mutable_data());
-        return out;
-    }
-    py::array_t<uint8_t> out(shape);
-    uint8_t* p = out.mutable_data();
-    for (size_t k = 0; k < film.rgb.size(); ++k) p[k] = srgbByte(film.rgb[k]);
-    return out;
+    return pictureArray(film, linear);
 }
 
 }  // namespace

@@ -21,6 +21,33 @@
 
 namespace terracast::python {
 
+// The DEM a view is made of: the height field's own, or exaggerated: a file opened again as `--exaggeration`
+// opens it, an array's heights multiplied in a copy.
+std::shared_ptr<const LoadedDem> exaggerated(PyHeightField& hf, double k) {
+    if (!(k > 0.0) || !std::isfinite(k))
+        throw py::value_error("exaggeration: expected a positive number, found " + std::to_string(k));
+    if (k == 1.0) return std::shared_ptr<const LoadedDem>(std::shared_ptr<const LoadedDem>{}, &hf.dem());
+    if (hf.fromFile()) {
+        DemLoadOptions options = hf.loadOptions();
+        options.exaggeration = k;
+        return std::make_shared<const LoadedDem>(loadDem(hf.dem().path, options));
+    }
+    return std::make_shared<const LoadedDem>(exaggeratedDem(hf.dem(), k));
+}
+
+py::array pictureArray(const Film& film, bool linear) {
+    const std::vector<py::ssize_t> shape{film.height, film.width, 3};
+    if (linear) {
+        py::array_t<float> out(shape);
+        std::copy(film.rgb.begin(), film.rgb.end(), out.mutable_data());
+        return out;
+    }
+    py::array_t<uint8_t> out(shape);
+    uint8_t* p = out.mutable_data();
+    for (size_t k = 0; k < film.rgb.size(); ++k) p[k] = srgbByte(film.rgb[k]);
+    return out;
+}
+
 namespace {
 
 // ---- Arguments as the CLI's options take them, or in Python's own types ----
@@ -94,18 +121,13 @@ int threadsOf(int threads) {
     return threads;
 }
 
-// The DEM a view is made of: the height field's own, or exaggerated: a file opened again as `--exaggeration`
-// opens it, an array's heights multiplied in a copy.
-std::shared_ptr<const LoadedDem> exaggerated(PyHeightField& hf, double k) {
-    if (!(k > 0.0) || !std::isfinite(k))
-        throw py::value_error("exaggeration: expected a positive number, found " + std::to_string(k));
-    if (k == 1.0) return std::shared_ptr<const LoadedDem>(std::shared_ptr<const LoadedDem>{}, &hf.dem());
-    if (hf.fromFile()) {
-        DemLoadOptions options = hf.loadOptions();
-        options.exaggeration = k;
-        return std::make_shared<const LoadedDem>(loadDem(hf.dem().path, options));
-    }
-    return std::make_shared<const LoadedDem>(exaggeratedDem(hf.dem(), k));
+// The options every terrain map takes: its search radius and curvature, the method and the threads.
+template <class Options>
+void searchOptions(Options& o, double maxDistance, double curvatureCoeff, const std::string& method, int threads) {
+    o.maxDistanceM = maxDistance;
+    o.curvatureCoeff = curvatureCoeff;
+    o.method = methodOf(method);
+    o.threads = threadsOf(threads);
 }
 
 // ---- Products ----
@@ -141,10 +163,7 @@ py::array shadow(PyHeightField& hf, const py::object& sun, double sunSize, const
     o.sunSizeDeg = sunSize;
     bool single = true;
     if (!sunTime.is_none()) o.sunTimes = sunTimesOf(sunTime, single);
-    o.maxDistanceM = maxDistance;
-    o.curvatureCoeff = curvatureCoeff;
-    o.method = methodOf(method);
-    o.threads = threadsOf(threads);
+    searchOptions(o, maxDistance, curvatureCoeff, method, threads);
     const VertexProduct product = shadowProduct(o, hf.dem(), RunListener{});
     return productArray(hf.grid(), product, progress, single);
 }
@@ -164,10 +183,7 @@ py::array horizon(PyHeightField& hf, const py::object& azimuth, const py::object
     } else {
         o.azimuthsDeg = azimuths.cast<std::vector<double>>();
     }
-    o.maxDistanceM = maxDistance;
-    o.curvatureCoeff = curvatureCoeff;
-    o.method = methodOf(method);
-    o.threads = threadsOf(threads);
+    searchOptions(o, maxDistance, curvatureCoeff, method, threads);
     const VertexProduct product = horizonProduct(o, hf.dem());
     return productArray(hf.grid(), product, progress, single);
 }
@@ -177,10 +193,7 @@ py::array skyView(PyHeightField& hf, int directions, double maxDistance, double 
     SkyViewMapOptions o;
     o.dem = sourceOf(hf);
     o.directions = directions;
-    o.maxDistanceM = maxDistance;
-    o.curvatureCoeff = curvatureCoeff;
-    o.method = methodOf(method);
-    o.threads = threadsOf(threads);
+    searchOptions(o, maxDistance, curvatureCoeff, method, threads);
     const VertexProduct product = skyViewProduct(o, hf.dem());
     return productArray(hf.grid(), product, progress, false);
 }
@@ -195,10 +208,7 @@ py::array insolation(PyHeightField& hf, const std::string& date, const std::stri
     o.dayStep = dayStep;
     o.linkeTurbidity = linke;
     o.albedo = albedo;
-    o.maxDistanceM = maxDistance;
-    o.curvatureCoeff = curvatureCoeff;
-    o.method = methodOf(method);
-    o.threads = threadsOf(threads);
+    searchOptions(o, maxDistance, curvatureCoeff, method, threads);
     const VertexProduct product = insolationProduct(o, hf.dem(), RunListener{});
     return productArray(hf.grid(), product, progress, false);
 }
@@ -222,10 +232,7 @@ py::array viewshed(PyHeightField& hf, const py::object& observer, const py::obje
     o.observerHeightM = observerHeight;
     o.targetHeightM = targetHeight;
     o.values = parseViewshedValues(values, "values");
-    o.curvatureCoeff = curvatureCoeff;
-    o.maxDistanceM = maxDistance;
-    o.method = methodOf(method);
-    o.threads = threadsOf(threads);
+    searchOptions(o, maxDistance, curvatureCoeff, method, threads);
     const VertexProduct product = viewshedProduct(o, hf.dem());
     return productArray(hf.grid(), product, progress, true);
 }
@@ -357,16 +364,7 @@ py::array render(PyHeightField& hf, const py::object& size, const py::object& su
         const TerrainSurface surface(dem->grid, o.method, o.threads);
         return renderTerrain(dem->grid, surface, s);
     });
-    const std::vector<py::ssize_t> shape{film.height, film.width, 3};
-    if (linear) {
-        py::array_t<float> out(shape);
-        std::copy(film.rgb.begin(), film.rgb.end(), out.mutable_data());
-        return out;
-    }
-    py::array_t<uint8_t> out(shape);
-    uint8_t* p = out.mutable_data();
-    for (size_t k = 0; k < film.rgb.size(); ++k) p[k] = srgbByte(film.rgb[k]);
-    return out;
+    return pictureArray(film, linear);
 }
 
 py::tuple sunAt(PyHeightField& hf, const py::object& when) {

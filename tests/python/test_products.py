@@ -130,6 +130,18 @@ def test_a_render_equals_the_cli_picture(helens, tmp_path):
     picture = helens.render(size=(160, 90), sun=(290, 25), spp=2)
     assert picture.dtype == np.uint8 and picture.shape == (90, 160, 3)
     assert np.array_equal(picture, png)
+    # Exaggerated (the file opened again as --exaggeration opens it), from another view.
+    out = str(tmp_path / "fisheye.png")
+    run_cli("render", ST_HELENS, "-o", out, "--quiet", "--size", "64x64", "--exaggeration", "2.5", "--view",
+            "orthographic", "--colour", "#a08060", "--no-base", "--sky", "gradient")
+    png = gdal.Open(out).ReadAsArray().transpose(1, 2, 0)
+    assert np.array_equal(helens.render(size="64x64", exaggeration=2.5, view="orthographic", colour="#a08060",
+                                        no_base=True, sky="gradient"), png)
+    # The map view at another scale than the DEM's own: one picture, as the command writes it.
+    out = str(tmp_path / "map.tif")
+    run_cli("render", ST_HELENS, "-o", out, "--quiet", "--view", "map", "--scale", "0.5", "--no-shadows")
+    tif = gdal.Open(out).ReadAsArray().transpose(1, 2, 0)
+    assert np.array_equal(helens.map_view(scale=0.5, no_shadows=True), tif)
     linear = helens.render(size=(160, 90), sun=(290, 25), spp=2, linear=True)
     assert linear.dtype == np.float32
     # The bytes are the linear values in sRGB's encoding (IEC 61966-2-1), written out here.
