@@ -68,16 +68,29 @@ struct WorkProgress {
 // Ctrl-C (KeyboardInterrupt) or an exception raised by `progress` asks the work to stop (tracer/core/cancel.h:
 // loops stop between tiles) and is raised once it has; an error of the work itself is raised as the module
 // translates it. Returns what `work` returns.
+//
+// The cancellation flag is the process's: while calls run from several Python threads, a Ctrl-C (or a raising
+// progress function) stops them all. It is cleared when the first call starts and when the last one ends.
+inline std::atomic<int>& watchedCalls() {
+    static std::atomic<int> calls{0};
+    return calls;
+}
+
 template <class Result>
 Result runWatched(const py::object& progress, const std::function<Result(WorkProgress&)>& work) {
     WorkProgress state;
     std::optional<Result> result;
-    std::exception_ptr failure;
+    std::exception_ptr failure, watching;
     std::optional<py::error_already_set> raised;
     std::mutex mutex;
     std::condition_variable finished;
     bool done = false;
-    cancelFlag().store(false);
+    if (watchedCalls().fetch_add(1) == 0) cancelFlag().store(false);
+    struct LastOut {
+        ~LastOut() {
+            if (watchedCalls().fetch_sub(1) == 1) cancelFlag().store(false);
+        }
+    } lastOut;
     {
         py::gil_scoped_release release;
         std::thread worker([&] {
@@ -97,7 +110,7 @@ Result runWatched(const py::object& progress, const std::function<Result(WorkPro
                 if (finished.wait_for(lock, std::chrono::milliseconds(50), [&] { return done; })) break;
             }
             py::gil_scoped_acquire acquire;
-            if (raised) continue;  // stopping already
+            if (raised || watching) continue;  // stopping already
             try {
                 if (PyErr_CheckSignals() != 0) throw py::error_already_set();
                 const double f = state.fraction.load(std::memory_order_relaxed);
@@ -108,12 +121,16 @@ Result runWatched(const py::object& progress, const std::function<Result(WorkPro
             } catch (py::error_already_set& e) {
                 raised.emplace(std::move(e));
                 cancelFlag().store(true);
+            } catch (...) {
+                // Whatever else goes wrong here stops the work too, and is raised once the worker has joined.
+                watching = std::current_exception();
+                cancelFlag().store(true);
             }
         }
         worker.join();
     }
-    cancelFlag().store(false);
     if (raised) throw std::move(*raised);
+    if (watching) std::rethrow_exception(watching);
     if (failure) std::rethrow_exception(failure);
     if (!progress.is_none()) progress(1.0, state.rays.load());
     return std::move(*result);

@@ -176,7 +176,11 @@ HeightGrid gridFromArray(const py::array& a, const ArrayPlacement& place, std::o
 // A geotransform from a GDAL-style 6-tuple, an affine 6-tuple (a, b, c, d, e, f: x = a col + b row + c, y = d col
 // + e row + f, as rasterio writes it), a 9-term affine matrix, or an object with to_gdal() (rasterio's Affine).
 std::vector<double> geoTransformOf(const py::object& t) {
-    if (py::hasattr(t, "to_gdal")) return t.attr("to_gdal")().cast<std::vector<double>>();
+    if (py::hasattr(t, "to_gdal")) {
+        const auto gt = t.attr("to_gdal")().cast<std::vector<double>>();
+        if (gt.size() != 6) throw py::value_error("transform: to_gdal() gave " + std::to_string(gt.size()) + " numbers, expected 6");
+        return gt;
+    }
     std::vector<double> v;
     try {
         v = t.cast<std::vector<double>>();

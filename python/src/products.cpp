@@ -10,6 +10,7 @@
 #include "tracer/sky/calendar.h"
 #include "tracer/terrain/dem_pipeline.h"
 #include "tracer/terrain/map_pipeline.h"
+#include "tracer/terrain/memory_model.h"
 #include "tracer/terrain/tiled_product.h"
 
 #include <pybind11/stl.h>
@@ -58,7 +59,8 @@ void sunOf(const py::object& sun, double& az, double& el) {
         const std::string text = sun.cast<std::string>();
         char comma = 0;
         std::istringstream in(text);
-        if (!(in >> az >> comma >> el) || comma != ',' || !(in >> std::ws).eof())
+        if (!(in >> az >> comma >> el) || comma != ',' || !(in >> std::ws).eof() || !std::isfinite(az) ||
+            !std::isfinite(el))
             throw py::value_error("sun: expected (azimuth, elevation) in degrees or 'AZ,EL', found '" + text + "'");
         return;
     }
@@ -72,6 +74,8 @@ void sunOf(const py::object& sun, double& az, double& el) {
         throw py::value_error("sun: expected (azimuth, elevation) in degrees, found " + py::repr(sun).cast<std::string>());
     az = v[0];
     el = v[1];
+    if (!std::isfinite(az) || !std::isfinite(el))
+        throw py::value_error("sun: expected finite degrees, found " + py::repr(sun).cast<std::string>());
 }
 
 // An instant: ISO 8601 text with a zone (as --sun-time) or a timezone-aware datetime.
@@ -135,8 +139,11 @@ void searchOptions(Options& o, double maxDistance, double curvatureCoeff, const 
 // A per-vertex product computed whole into a new array of the samples its GeoTIFF holds: uint8 (nodata as the
 // product's value, 255) or float32 (NaN where the file holds nodata), shape (rows, columns) for one band and
 // (rows, columns, bands) otherwise, row 0 north.
-py::array productArray(const HeightGrid& grid, const VertexProduct& product, const py::object& progress,
+py::array productArray(const LoadedDem& dem, const VertexProduct& product, const py::object& progress,
                        bool oneBand) {
+    // The array and a band of rows beside it, against 80 % of the machine's memory, as the command checks its job.
+    checkRasterJob(dem, 0.0, product.bands, product.type, 0.0, "the array");
+    const HeightGrid& grid = dem.grid;
     std::vector<py::ssize_t> shape{py::ssize_t(grid.height()), py::ssize_t(grid.width())};
     if (!(oneBand && product.bands == 1)) shape.push_back(product.bands);
     py::array out = product.type == RasterType::Byte ? py::array(py::dtype::of<uint8_t>(), shape)
@@ -165,7 +172,7 @@ py::array shadow(PyHeightField& hf, const py::object& sun, double sunSize, const
     if (!sunTime.is_none()) o.sunTimes = sunTimesOf(sunTime, single);
     searchOptions(o, maxDistance, curvatureCoeff, method, threads);
     const VertexProduct product = shadowProduct(o, hf.dem(), RunListener{});
-    return productArray(hf.grid(), product, progress, single);
+    return productArray(hf.dem(), product, progress, single);
 }
 
 py::array horizon(PyHeightField& hf, const py::object& azimuth, const py::object& azimuths, double maxDistance,
@@ -185,7 +192,7 @@ py::array horizon(PyHeightField& hf, const py::object& azimuth, const py::object
     }
     searchOptions(o, maxDistance, curvatureCoeff, method, threads);
     const VertexProduct product = horizonProduct(o, hf.dem());
-    return productArray(hf.grid(), product, progress, single);
+    return productArray(hf.dem(), product, progress, single);
 }
 
 py::array skyView(PyHeightField& hf, int directions, double maxDistance, double curvatureCoeff,
@@ -195,7 +202,7 @@ py::array skyView(PyHeightField& hf, int directions, double maxDistance, double 
     o.directions = directions;
     searchOptions(o, maxDistance, curvatureCoeff, method, threads);
     const VertexProduct product = skyViewProduct(o, hf.dem());
-    return productArray(hf.grid(), product, progress, false);
+    return productArray(hf.dem(), product, progress, false);
 }
 
 py::array insolation(PyHeightField& hf, const std::string& date, const std::string& step, int dayStep, double linke,
@@ -210,7 +217,7 @@ py::array insolation(PyHeightField& hf, const std::string& date, const std::stri
     o.albedo = albedo;
     searchOptions(o, maxDistance, curvatureCoeff, method, threads);
     const VertexProduct product = insolationProduct(o, hf.dem(), RunListener{});
-    return productArray(hf.grid(), product, progress, false);
+    return productArray(hf.dem(), product, progress, false);
 }
 
 py::array viewshed(PyHeightField& hf, const py::object& observer, const py::object& observers, bool lonlat,
@@ -234,7 +241,7 @@ py::array viewshed(PyHeightField& hf, const py::object& observer, const py::obje
     o.values = parseViewshedValues(values, "values");
     searchOptions(o, maxDistance, curvatureCoeff, method, threads);
     const VertexProduct product = viewshedProduct(o, hf.dem());
-    return productArray(hf.grid(), product, progress, true);
+    return productArray(hf.dem(), product, progress, true);
 }
 
 // The options render and map_view share.
@@ -262,15 +269,19 @@ py::array mapView(PyHeightField& hf, const py::object& sun, const py::object& su
         throw py::value_error("colour: expected grey or ramp, found '" + colour + "'");
     o.colourRamp = colour == "ramp";
     o.hillshadeBlend = hillshadeBlend;
+    checkMapViewOptions(o);
     const std::shared_ptr<const LoadedDem> dem = exaggerated(hf, exaggeration);
-    const bool onGrid = scale == 1.0 && o.method != SurfaceMethod::Nearest;
-    if (onGrid) {
-        // The map view on the DEM's own grid: the samples of `render --view map -o MAP.tif`.
-        const VertexProduct product = mapViewProduct(o, *dem, RunListener{});
-        return productArray(dem->grid, product, progress, false);
-    }
-    // Any other scale: one picture held whole, as `render --view map` writes it at that scale.
     MapViewSettings m = mapViewSettings(o, *dem, RunListener{});
+    if (scale == 1.0 && o.method != SurfaceMethod::Nearest) {
+        // The map view on the DEM's own grid: the samples of `render --view map -o MAP.tif`.
+        const VertexProduct product = mapViewProduct(m, *dem);
+        return productArray(*dem, product, progress, false);
+    }
+    // Any other scale: one picture held whole, as `render --view map` writes it at that scale (its film, its
+    // coverage and the array).
+    const double area = std::ceil(double(dem->grid.width()) * scale) * std::ceil(double(dem->grid.height()) * scale);
+    checkMemory(dem->path, 0.0, dem->grid, area * (kFilmBytesPerPixel + 1.0 + 8.0),
+                "the map view at scale " + std::to_string(scale));
     const MapImage image = runWatched<MapImage>(progress, [&](WorkProgress& state) {
         m.progress = [&](double f, int64_t r) { state(f, r); };
         return renderMapView(dem->grid, m);
@@ -355,8 +366,16 @@ py::array render(PyHeightField& hf, const py::object& size, const py::object& su
     if (!backdrop) throw py::value_error("background: expected neutral, sky or ground, found '" + background + "'");
     o.backdrop = *backdrop;
 
+    checkPerspectiveOptions(o);
     const std::shared_ptr<const LoadedDem> dem = exaggerated(hf, exaggeration);
     TerrainRenderSettings s = perspectiveSettings(o, *dem, RunListener{});
+    // The film and the array, Embree's scene and a drape's three floats a vertex, as `render` checks its job.
+    const double drapeBytes =
+        o.drape.empty() ? 0.0 : 12.0 * double(dem->grid.width()) * double(dem->grid.height());
+    checkMemory(dem->path, 0.0, dem->grid,
+                double(o.width) * o.height * (kFilmBytesPerPixel + (linear ? 12.0 : 3.0)) +
+                    embreeBytesEstimate(o.method, dem->grid) + drapeBytes,
+                "rendering " + std::to_string(o.width) + "x" + std::to_string(o.height));
     if (!o.drape.empty())
         s.look.drape = std::make_shared<const DrapeImage>(loadDrape(o.drape, dem->geo, dem->grid.width(), dem->grid.height()));
     const Film film = runWatched<Film>(progress, [&](WorkProgress& watched) {

@@ -229,6 +229,12 @@ def test_a_geographic_array_is_converted_to_metres_as_its_file_is():
 def test_product_arguments_are_refused_with_their_names(helens):
     with pytest.raises(ValueError, match="sun: expected"):
         helens.shadow("315")
+    with pytest.raises(ValueError, match="sun: expected finite"):
+        helens.shadow((float("nan"), 30.0))
+    with pytest.raises(ValueError, match="rendering 65536x65536 needs"):
+        helens.render(size=(65536, 65536))
+    with pytest.raises(ValueError, match="--spp"):
+        helens.render(spp=0, exaggeration=3.0)
     with pytest.raises(ValueError, match="sun_time: expected a timezone-aware"):
         import datetime
         helens.shadow(sun_time=datetime.datetime(2026, 6, 21, 12))
@@ -297,6 +303,32 @@ def test_ctrl_c_stops_the_work_between_tiles_and_raises_keyboard_interrupt(waves
     # The whole map takes about 30 s on two cores: the work stopped where it was.
     assert elapsed < 3.0 and (not seen or seen[-1] < 0.5)
     # The next call runs normally.
+    assert waves.horizon(0.0, max_distance=100.0).shape == waves.shape
+
+
+def test_ctrl_c_stops_the_calls_of_other_threads_too(waves):
+    import _thread
+    other = {}
+
+    def long_call():
+        start = time.monotonic()
+        try:
+            waves.horizon(azimuths="0:360:22.5")
+            other["end"] = "finished"
+        except KeyboardInterrupt:
+            other["end"] = "interrupted"
+        other["seconds"] = time.monotonic() - start
+
+    thread = threading.Thread(target=long_call)
+    thread.start()
+    time.sleep(0.2)
+    timer = threading.Timer(0.3, _thread.interrupt_main)
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        waves.horizon(azimuths="0:360:22.5")
+    thread.join(20.0)
+    timer.join()
+    assert other["end"] == "interrupted" and other["seconds"] < 3.0, other
     assert waves.horizon(0.0, max_distance=100.0).shape == waves.shape
 
 

@@ -148,7 +148,7 @@ double PixelFilter::sample1D(double u) const {
             for (size_t k = 0; k < table.x.size(); ++k)
                 table.x[k] = k == 0 ? -r : k + 1 == table.x.size() ? r : table.terms.inverse(double(k) / 256.0, 0.0);
         }
-        const double at = std::clamp(u, 0.0, 1.0) * 256.0;
+        const double at = (u > 0.0 ? std::min(u, 1.0) : 0.0) * 256.0;  // NaN as 0
         const size_t k = std::min<size_t>(size_t(at), 255);
         return table.terms.inverse(u, table.x[k] + (at - double(k)) * (table.x[k + 1] - table.x[k]));
     }

@@ -141,6 +141,8 @@ void mapViewSample(const glm::vec3& linear, bool covered, float* out) {
     out[3] = covered ? 255.0f : 0.0f;
 }
 
+}  // namespace
+
 void checkMapViewOptions(const DemRenderOptions& o) {
     checkViewValues(o.exaggeration, o.sunElevationDeg);
     if (!(o.scale > 0.0 && o.scale <= 16.0)) throw InputError(fmt::format("--scale: expected (0, 16], found {}", o.scale));
@@ -149,8 +151,6 @@ void checkMapViewOptions(const DemRenderOptions& o) {
     checkSkySamples(o.skySamples);
     requireDirectMethod(o.method, "--view map");
 }
-
-}  // namespace
 
 MapViewSettings mapViewSettings(const DemRenderOptions& o, const LoadedDem& dem, const RunListener& listener) {
     checkMapViewOptions(o);
@@ -171,11 +171,10 @@ MapViewSettings mapViewSettings(const DemRenderOptions& o, const LoadedDem& dem,
     return m;
 }
 
-VertexProduct mapViewProduct(const DemRenderOptions& o, const LoadedDem& dem, const RunListener& listener) {
-    if (o.scale != 1.0 || requireDirectMethod(o.method, "--view map") == CellMethod::Nearest)
+VertexProduct mapViewProduct(const MapViewSettings& m, const LoadedDem& dem) {
+    if (m.scale != 1.0 || m.method == CellMethod::Nearest)
         throw InputError("render --view map: a map view on the DEM's own grid takes --scale 1 and a method whose "
                          "surface passes through the vertices (not nearest)");
-    const MapViewSettings m = mapViewSettings(o, dem, listener);
     // 8-bit sRGB in three bands and an alpha band (0 over holes), on the DEM's own grid, a tile at a time.
     VertexProduct product;
     product.bands = 4;
@@ -221,11 +220,12 @@ void renderMap(const DemRenderOptions& o, const RunListener& listener) {
     checkOutputPath(o.output, o.dem.path, {".tif", ".tiff", ".png"});
     checkMapViewOptions(o);
     LoadedDem dem = loadDemSource(o.dem, listener, onGrid, o.exaggeration);
+    const MapViewSettings m = mapViewSettings(o, dem, listener);
     if (onGrid) {
         checkRasterJob(dem, o.dem.maxMemoryBytes, 4, RasterType::Byte, 0.0, "the map view");
         listener.at("map view");
         const auto start = std::chrono::steady_clock::now();
-        VertexProduct product = mapViewProduct(o, dem, listener);
+        VertexProduct product = mapViewProduct(m, dem);
         const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
         tellRasterSummary(listener, "map view", o.output, count, count.rays, "sun and sky rays", start);
         return;
@@ -239,7 +239,6 @@ void renderMap(const DemRenderOptions& o, const RunListener& listener) {
                     pixels * (kFilmBytesPerPixel + 1.0 + (png ? kFilmBytesPerPixel + kEncodeBytesPerPixel : 17.0)),
                     fmt::format("the map view at scale {:g}", o.scale));
     }
-    const MapViewSettings m = mapViewSettings(o, dem, listener);
     listener.at("map view");
     const auto start = std::chrono::steady_clock::now();
     const MapImage image = renderMapView(dem.grid, m);
@@ -279,6 +278,8 @@ void renderMap(const DemRenderOptions& o, const RunListener& listener) {
                               seconds > 0.0 ? double(rays) / seconds * 1e-6 : 0.0, humanBytes(peakResidentBytes())));
 }
 
+}  // namespace
+
 void checkPerspectiveOptions(const DemRenderOptions& o) {
     checkViewValues(o.exaggeration, o.sunElevationDeg);
     checkSkySamples(o.skySamples);
@@ -292,8 +293,6 @@ void checkPerspectiveOptions(const DemRenderOptions& o) {
     if (o.width < 1 || o.height < 1 || o.width > 65536 || o.height > 65536)
         throw InputError(fmt::format("--size: expected 1..65536 pixels a side, found {}x{}", o.width, o.height));
 }
-
-}  // namespace
 
 TerrainRenderSettings perspectiveSettings(const DemRenderOptions& o, const LoadedDem& dem, const RunListener& listener) {
     checkPerspectiveOptions(o);

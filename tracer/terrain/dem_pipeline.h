@@ -101,12 +101,17 @@ struct DemRenderOptions {
 TerrainRenderSettings perspectiveSettings(const DemRenderOptions& options, const LoadedDem& dem,
                                           const RunListener& listener);
 
-// The map view's settings from `render --view map`'s options (checked).
+// The checks of `render`'s options that need no DEM, for a perspective view and for the map view
+// (InputError naming the option).
+void checkPerspectiveOptions(const DemRenderOptions& options);
+void checkMapViewOptions(const DemRenderOptions& options);
+
+// The map view's settings from `render --view map`'s options (checked), its sun placed.
 MapViewSettings mapViewSettings(const DemRenderOptions& options, const LoadedDem& dem, const RunListener& listener);
 
 // The map view on the DEM's own grid (scale 1, a method through the vertices, else InputError) as a per-vertex
 // product of four Byte bands: sRGB and alpha (255 over the terrain, 0 over holes); refers to `dem`.
-VertexProduct mapViewProduct(const DemRenderOptions& options, const LoadedDem& dem, const RunListener& listener);
+VertexProduct mapViewProduct(const MapViewSettings& settings, const LoadedDem& dem);
 
 // A map view held whole as the samples its GeoTIFF holds: rows north first, four bytes a pixel (sRGB, alpha).
 std::vector<uint8_t> mapViewPixels(const MapImage& image);
