@@ -472,15 +472,16 @@ void pyramidParentLevel(const int16_t* level, int64_t px, int64_t py, bool highe
     // Codes order as heights do, so the extreme code is the bound. Every block has at least one child; a last
     // row (column) without a partner is paired with itself, which leaves its extremes unchanged.
     auto reduce = [&](auto pick) {
+        // Each block row: the extremes of its two child rows, column by column, then of adjacent columns (loops
+        // over contiguous values that the compiler vectorises).
         parallelRanges(by, 4 * bx, [&](int64_t b0, int64_t b1) {
+            std::vector<int16_t> columns(static_cast<size_t>(2 * bx));
             for (int64_t bj = b0; bj < b1; ++bj) {
                 const int16_t* r0 = level + 2 * bj * px;
                 const int16_t* r1 = 2 * bj + 1 < py ? r0 + px : r0;
-                int16_t* out = next + bj * bx;
-                const int64_t pairs = px / 2;
-                for (int64_t bi = 0; bi < pairs; ++bi)
-                    out[bi] = pick(pick(r0[2 * bi], r0[2 * bi + 1]), pick(r1[2 * bi], r1[2 * bi + 1]));
-                if (px % 2 != 0) out[pairs] = pick(r0[px - 1], r1[px - 1]);
+                for (int64_t i = 0; i < px; ++i) columns[size_t(i)] = pick(r0[i], r1[i]);
+                if (px % 2 != 0) columns[size_t(px)] = columns[size_t(px - 1)];
+                pairExtremes(columns.data(), bx, highest, next + bj * bx);
             }
         });
     };

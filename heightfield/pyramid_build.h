@@ -6,16 +6,42 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace terracast {
+
+// out[b] = the larger (highest) or smaller of in[2b] and in[2b + 1], for b < pairs. A loop over pairs the
+// compiler leaves scalar; with SSE2, eight pairs at a time: each 32-bit lane holds a pair, the odd value shifted
+// onto the even one gives the pair's extreme in the lane's low half, which is sign-extended and packed back.
+inline void pairExtremes(const int16_t* in, int64_t pairs, bool highest, int16_t* out) {
+    int64_t b = 0;
+#if defined(__SSE2__)
+    for (; b + 8 <= pairs; b += 8) {
+        const __m128i lo = _mm_loadu_si128(reinterpret_cast<const __m128i*>(in + 2 * b));
+        const __m128i hi = _mm_loadu_si128(reinterpret_cast<const __m128i*>(in + 2 * b + 8));
+        __m128i x = highest ? _mm_max_epi16(lo, _mm_srli_epi32(lo, 16)) : _mm_min_epi16(lo, _mm_srli_epi32(lo, 16));
+        __m128i y = highest ? _mm_max_epi16(hi, _mm_srli_epi32(hi, 16)) : _mm_min_epi16(hi, _mm_srli_epi32(hi, 16));
+        x = _mm_srai_epi32(_mm_slli_epi32(x, 16), 16);
+        y = _mm_srai_epi32(_mm_slli_epi32(y, 16), 16);
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(out + b), _mm_packs_epi32(x, y));
+    }
+#endif
+    for (; b < pairs; ++b)
+        out[b] = highest ? std::max(in[2 * b], in[2 * b + 1]) : std::min(in[2 * b], in[2 * b + 1]);
+}
 
 // Block rows [b0, b1) of level 1 over a grid of `width` vertices per row and cellsX x cellsY cells. Block
 // (bi, bj) covers cells 2bi..2bi+1 x 2bj..2bj+1, that is vertices 2bi..2bi+2 x 2bj..2bj+2 (clipped to the
 // grid), and bounds those of them that are valid (`validBits`, one bit per vertex at k = j * width + i; empty
 // when all are): a hole cell next to a valid vertex is still bounded by it, which the traversal's corner
 // handling relies on. `get(k)` is vertex k's value, of type T; `highCode(h)` and `lowCode(l)` give a block's
-// codes from its extremes, which are noneHigh and noneLow for a block without a valid vertex. Each block row
+// codes from its extremes, which are noneHigh and noneLow for a block without a valid vertex. For T = int16_t the
+// values are codes already and their extremes are stored as they are (highCode and lowCode are not called). Each block row
 // first takes the column extremes of its three vertex rows (a loop over contiguous values the compiler
 // vectorises), then the extremes of three columns per block.
 template <class T, class Get, class HighCode, class LowCode>
@@ -23,7 +49,11 @@ void pyramidLevelOneRows(int64_t width, int64_t cellsX, int64_t cellsY, const st
                          int64_t b0, int64_t b1, Get get, T noneHigh, T noneLow, HighCode highCode, LowCode lowCode,
                          int16_t* high1, int16_t* low1) {
     const int64_t bx1 = (cellsX + 1) / 2;
-    std::vector<T> hi(static_cast<size_t>(width)), lo(static_cast<size_t>(width));
+    // Column extremes, with one more column of `none` past the last vertex so that a last block holding only
+    // two vertex columns reads its third as `none`; then extremes of adjacent columns, so that a block's three
+    // columns are two neighbouring pairs.
+    std::vector<T> hi(static_cast<size_t>(width + 1)), lo(static_cast<size_t>(width + 1));
+    std::vector<T> hi2(static_cast<size_t>(2 * bx1)), lo2(static_cast<size_t>(2 * bx1));
     for (int64_t bj = b0; bj < b1; ++bj) {
         std::fill(hi.begin(), hi.end(), noneHigh);
         std::fill(lo.begin(), lo.end(), noneLow);
@@ -46,14 +76,28 @@ void pyramidLevelOneRows(int64_t width, int64_t cellsX, int64_t cellsY, const st
                 }
             }
         }
-        for (int64_t bi = 0; bi < bx1; ++bi) {
-            T h = noneHigh, l = noneLow;
-            for (int64_t i = 2 * bi; i <= std::min(2 * bi + 2, cellsX); ++i) {
-                h = std::max(h, hi[size_t(i)]);
-                l = std::min(l, lo[size_t(i)]);
+        // Block bi covers columns 2bi .. 2bi + 2: pairs (2bi, 2bi + 1) and (2bi + 1, 2bi + 2).
+        {
+            const T* __restrict h = hi.data();
+            const T* __restrict l = lo.data();
+            T* __restrict h2 = hi2.data();
+            T* __restrict l2 = lo2.data();
+            for (int64_t i = 0; i < 2 * bx1; ++i) {
+                h2[i] = std::max(h[i], h[i + 1]);
+                l2[i] = std::min(l[i], l[i + 1]);
             }
-            high1[size_t(bj * bx1 + bi)] = highCode(h);
-            low1[size_t(bj * bx1 + bi)] = lowCode(l);
+        }
+        int16_t* high = high1 + bj * bx1;
+        int16_t* low = low1 + bj * bx1;
+        if constexpr (std::is_same_v<T, int16_t>) {
+            // Codes are their own pyramid codes (the caller's highCode and lowCode leave them as they are).
+            pairExtremes(hi2.data(), bx1, true, high);
+            pairExtremes(lo2.data(), bx1, false, low);
+            continue;
+        }
+        for (int64_t bi = 0; bi < bx1; ++bi) {
+            high[bi] = highCode(std::max(hi2[size_t(2 * bi)], hi2[size_t(2 * bi + 1)]));
+            low[bi] = lowCode(std::min(lo2[size_t(2 * bi)], lo2[size_t(2 * bi + 1)]));
         }
     }
 }

@@ -5,6 +5,7 @@
 #include "heightfield/fractal_terrain.h"
 #include "heightfield/grid_summary.h"
 #include "heightfield/height_tile.h"
+#include "heightfield/shading_normals.h"
 #include "heightfield/tile_cache.h"
 #include "heightfield/traversal.h"
 #include "support/sanitizers.h"
@@ -210,6 +211,32 @@ TEST_CASE("Tiled grid: rays through a cache of two tiles trace exactly as throug
         CHECK(bundleHits > 20);
         CHECK(bundleDiffer == 0);
     }
+}
+
+TEST_CASE("Tiled grid: smooth shading normals equal the whole grid's, inside tiles, along their borders and "
+          "beside holes",
+          "[heightfield][tiles]") {
+    const HeightGrid whole = testGrid(Heights::WholeMetres);
+    const size_t tileBytes = CutTiles(whole, size_t(1) << 30).tile(0, 0)->bytes();
+    auto tiles = std::make_shared<CutTiles>(whole, 2 * tileBytes + tileBytes / 2, true);
+    const HeightGrid tiled(tiles->summary(), 10.0, 10.0, tiles);
+    // Every cell of the columns and rows around the tile borders (x, y = 256 and 512) and the holes there, and a
+    // sparse sample elsewhere, at a few positions inside each cell.
+    auto near = [](int64_t c) { return std::abs(c - 256) < 12 || std::abs(c - 512) < 4 || c < 3; };
+    int64_t cells = 0, differ = 0;
+    for (int64_t j = 0; j < whole.cellsY(); ++j)
+        for (int64_t i = 0; i < whole.cellsX(); ++i) {
+            // Rays hit valid cells only, whose corners are all valid (at a nodata vertex the grids hold different
+            // placeholders).
+            if ((!near(i) && !near(j) && (i * 7 + j * 3) % 61 != 0) || !whole.cellValid(i, j)) continue;
+            ++cells;
+            for (auto [u, v] : {std::pair{0.0, 0.0}, std::pair{0.25, 0.8}, std::pair{1.0, 0.5}}) {
+                const glm::dvec3 a = smoothNormal(whole, i, j, u, v), b = smoothNormal(tiled, i, j, u, v);
+                differ += bits(a.x) != bits(b.x) || bits(a.y) != bits(b.y) || bits(a.z) != bits(b.z);
+            }
+        }
+    CHECK(cells > 40000);
+    CHECK(differ == 0);
 }
 
 TEST_CASE("Tiled grid: a tile whose heights the summary cannot code is refused from floats and from 16-bit metres",
