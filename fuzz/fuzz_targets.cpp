@@ -81,7 +81,7 @@ void demLoader(const uint8_t* data, size_t size) {
             name = kNames[(route / 2) % 4];
             dem = loadDemFromBytes(bytes, name, options);
         } else {
-            // PNG height maps go through OpenImageIO, which reads real files.
+            // PNG height maps are read from files (by libspng, or OpenImageIO for the layouts libspng leaves).
             name = (std::filesystem::temp_directory_path() / fmt::format("terracast-fuzz-{}.png", ::getpid())).string();
             std::ofstream(name, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
             struct Remove {

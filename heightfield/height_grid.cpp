@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <utility>
@@ -81,6 +82,80 @@ HeightGrid::HeightGrid(int64_t width, int64_t height, double cellSizeXM, double 
     }
     std::vector<uint8_t>().swap(valid);
     finish();
+}
+
+HeightGrid::HeightGrid(int64_t width, int64_t height, double cellSizeXM, double cellSizeYM, std::vector<int16_t> codes,
+                       int32_t codeOffset, double codeScale, double scaleHint)
+    : width_(width), height_(height), cellSizeXM_(cellSizeXM), cellSizeYM_(cellSizeYM), storage_(HeightStorage::Int16),
+      policy_(StoragePolicy::Auto), scaleHint_(scaleHint), codes_(std::move(codes)), codeOffset_(codeOffset),
+      codeScale_(codeScale) {
+    setLattice();
+    const auto n = static_cast<size_t>(width_) * static_cast<size_t>(height_);
+    if (codes_.size() != n)
+        throw GridError("expected " + std::to_string(n) + " heights, got " + std::to_string(codes_.size()));
+    if (!(codeScale > 0.0) || !std::isfinite(codeScale)) throw GridError("height codes need a positive, finite scale");
+    // Which of the 65536 codes occur: the height range, and the only heights a re-basing must carry over.
+    std::vector<uint8_t> occurs(65536, 0);
+    {
+        std::vector<std::vector<uint8_t>> seen;
+        std::mutex merge;
+        parallelRanges(int64_t(n), 1, [&](int64_t k0, int64_t k1) {
+            std::vector<uint8_t> mine(65536, 0);
+            for (int64_t k = k0; k < k1; ++k) mine[size_t(int32_t(codes_[size_t(k)]) - kLowestCode)] = 1;
+            const std::lock_guard<std::mutex> lock(merge);
+            for (size_t c = 0; c < mine.size(); ++c) occurs[c] |= mine[c];
+        });
+    }
+    int32_t lowCode = kHighestCode, highCode = kLowestCode;
+    for (int32_t c = kLowestCode; c <= kHighestCode; ++c)
+        if (occurs[size_t(c - kLowestCode)]) {
+            lowCode = std::min(lowCode, c);
+            highCode = std::max(highCode, c);
+        }
+    minHeightM_ = decodeHeightCode(lowCode, codeOffset_, codeScale_);
+    maxHeightM_ = decodeHeightCode(highCode, codeOffset_, codeScale_);
+    if (!std::isfinite(minHeightM_) || !std::isfinite(maxHeightM_))
+        throw GridError("heights decoded from the codes are not finite");
+    nodataVertices_ = 0;
+    validCells_ = cellsX() * cellsY();
+    // The float constructor's choice (chooseStorage, tryInt16), made on the codes that occur: a table from each
+    // code to the code the chosen offset and scale give its height.
+    bool chosen = false;
+    for (const double s : int16CandidateScales(scaleHint_)) {
+        const auto offset = int16CodeOffset(minHeightM_, maxHeightM_, s);
+        if (!offset) continue;
+        std::vector<int16_t> table(65536, 0);
+        bool lossless = true;
+        for (int32_t c = lowCode; c <= highCode && lossless; ++c) {
+            if (!occurs[size_t(c - kLowestCode)]) continue;
+            const auto code = int16Code(decodeHeightCode(c, codeOffset_, codeScale_), s, *offset);
+            if (code) table[size_t(c - kLowestCode)] = *code;
+            lossless = code.has_value();
+        }
+        if (!lossless) continue;
+        if (s != codeScale_ || *offset != codeOffset_) {
+            int16_t* q = codes_.data();
+            parallelRanges(int64_t(n), 1, [&](int64_t k0, int64_t k1) {
+                for (int64_t k = k0; k < k1; ++k) q[k] = table[size_t(int32_t(q[k]) - kLowestCode)];
+            });
+        }
+        codeOffset_ = *offset;
+        codeScale_ = s;
+        chosen = true;
+        break;
+    }
+    if (!chosen) {
+        // As the float constructor keeps heights no int16 code holds exactly: float32.
+        heightsM_ = largeVector<float>(n);
+        parallelRanges(int64_t(n), 1, [&](int64_t k0, int64_t k1) {
+            for (int64_t k = k0; k < k1; ++k) heightsM_[size_t(k)] = decodeHeightCode(codes_[size_t(k)], codeOffset_, codeScale_);
+        });
+        std::vector<int16_t>().swap(codes_);
+        storage_ = HeightStorage::Float32;
+        codeOffset_ = 0;
+        codeScale_ = 1.0;
+    }
+    buildPyramid();
 }
 
 void HeightGrid::finish() {

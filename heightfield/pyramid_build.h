@@ -6,29 +6,27 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <type_traits>
 #include <vector>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 namespace terracast {
 
-// out[b] = the larger (highest) or smaller of in[2b] and in[2b + 1], for b < pairs. A loop over pairs the
-// compiler leaves scalar; with SSE2, eight pairs at a time: each 32-bit lane holds a pair, the odd value shifted
-// onto the even one gives the pair's extreme in the lane's low half, which is sign-extended and packed back.
+// out[b] = the larger (highest) or smaller of in[2b] and in[2b + 1], for b < pairs. Written as a loop over
+// pairs, the compiler leaves it scalar; with GCC's vector extensions, eight pairs at a time: the even and the odd
+// values of sixteen gathered by two shuffles (which SSE2 does with shifts and a pack), then their extremes.
 inline void pairExtremes(const int16_t* in, int64_t pairs, bool highest, int16_t* out) {
     int64_t b = 0;
-#if defined(__SSE2__)
+#if defined(__GNUC__) && !defined(__clang__)
+    using Lanes = int16_t __attribute__((vector_size(16)));
+    constexpr Lanes kEven = {0, 2, 4, 6, 8, 10, 12, 14}, kOdd = {1, 3, 5, 7, 9, 11, 13, 15};
     for (; b + 8 <= pairs; b += 8) {
-        const __m128i lo = _mm_loadu_si128(reinterpret_cast<const __m128i*>(in + 2 * b));
-        const __m128i hi = _mm_loadu_si128(reinterpret_cast<const __m128i*>(in + 2 * b + 8));
-        __m128i x = highest ? _mm_max_epi16(lo, _mm_srli_epi32(lo, 16)) : _mm_min_epi16(lo, _mm_srli_epi32(lo, 16));
-        __m128i y = highest ? _mm_max_epi16(hi, _mm_srli_epi32(hi, 16)) : _mm_min_epi16(hi, _mm_srli_epi32(hi, 16));
-        x = _mm_srai_epi32(_mm_slli_epi32(x, 16), 16);
-        y = _mm_srai_epi32(_mm_slli_epi32(y, 16), 16);
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(out + b), _mm_packs_epi32(x, y));
+        Lanes lo, hi;
+        std::memcpy(&lo, in + 2 * b, sizeof lo);
+        std::memcpy(&hi, in + 2 * b + 8, sizeof hi);
+        const Lanes even = __builtin_shuffle(lo, hi, kEven), odd = __builtin_shuffle(lo, hi, kOdd);
+        const Lanes pick = highest ? (even > odd ? even : odd) : (even < odd ? even : odd);
+        std::memcpy(out + b, &pick, sizeof pick);
     }
 #endif
     for (; b < pairs; ++b)

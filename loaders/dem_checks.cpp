@@ -46,8 +46,12 @@ void checkRasterSize(const std::string& path, int64_t width, int64_t height, dou
                              held, limit);
 }
 
-HeightGrid makeGrid(const std::string& path, int64_t width, int64_t height, double cellSizeXM, double cellSizeYM,
-                    std::vector<float> heightsM, std::vector<uint8_t> valid, double metresPerUnit) {
+namespace {
+
+// makeGrid around one of HeightGrid's constructors, `build`.
+template <class Build>
+HeightGrid checkedGrid(const std::string& path, int64_t width, int64_t height, double cellSizeXM, double cellSizeYM,
+                       Build build) {
     const auto sane = [](double m) { return m >= kMinCellSizeM && m <= kMaxCellSizeM; };
     if (!sane(cellSizeXM) || !sane(cellSizeYM))
         throw InputError(fmt::format("{}: cell size {:g} x {:g} m, expected {:g} m to {:g} m (a wrong geotransform or "
@@ -55,8 +59,7 @@ HeightGrid makeGrid(const std::string& path, int64_t width, int64_t height, doub
                                      path, cellSizeXM, cellSizeYM, kMinCellSizeM, kMaxCellSizeM));
     HeightGrid grid;
     try {
-        grid = HeightGrid(width, height, cellSizeXM, cellSizeYM, std::move(heightsM), std::move(valid),
-                          StoragePolicy::Auto, metresPerUnit);
+        grid = build();
     } catch (const GridError& e) {
         throw InputError(path + ": " + e.what());
     }
@@ -65,6 +68,24 @@ HeightGrid makeGrid(const std::string& path, int64_t width, int64_t height, doub
         throw InputError(fmt::format("{}: no cell has four valid corners ({} of {} vertices are nodata)", path,
                                      grid.nodataVertexCount(), width * height));
     return grid;
+}
+
+}  // namespace
+
+HeightGrid makeGrid(const std::string& path, int64_t width, int64_t height, double cellSizeXM, double cellSizeYM,
+                    std::vector<float> heightsM, std::vector<uint8_t> valid, double metresPerUnit) {
+    return checkedGrid(path, width, height, cellSizeXM, cellSizeYM, [&] {
+        return HeightGrid(width, height, cellSizeXM, cellSizeYM, std::move(heightsM), std::move(valid),
+                          StoragePolicy::Auto, metresPerUnit);
+    });
+}
+
+HeightGrid makeGrid(const std::string& path, int64_t width, int64_t height, double cellSizeXM, double cellSizeYM,
+                    std::vector<int16_t> codes, int32_t codeOffset, double metresPerUnit) {
+    return checkedGrid(path, width, height, cellSizeXM, cellSizeYM, [&] {
+        return HeightGrid(width, height, cellSizeXM, cellSizeYM, std::move(codes), codeOffset, metresPerUnit,
+                          metresPerUnit);
+    });
 }
 
 [[noreturn]] void throwBadHeight(const std::string& path, int64_t column, int64_t row, double heightM) {

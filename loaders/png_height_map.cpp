@@ -1,5 +1,6 @@
-// PNG height maps through the image codec module (OpenImageIO): channel 0 of an 8- or 16-bit image, scaled by
-// the options, rows flipped so that y points north.
+// PNG height maps: channel 0 of an 8- or 16-bit image, scaled by the options, rows flipped so that y points north.
+// libspng decodes the common layouts row by row straight into the grid's int16 codes; the image codec module
+// (OpenImageIO) reads the rest (palettes, 1- to 4-bit grey, interlacing) into floats first.
 #include "loaders/png_height_map.h"
 
 #include "heightfield/large_buffer.h"
@@ -10,12 +11,16 @@
 #include "tracer/core/text.h"
 
 #include <fmt/format.h>
+#include <spng.h>
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
+#include <memory>
+#include <optional>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -70,6 +75,13 @@ void checkPngIsComplete(const std::string& path) {
                 if (width == 0 || height == 0) throw InputError(fmt::format("{}: raster is {} x {}, with no sample to trace", path, width, height));
             }
         }
+        // Each byte of a chunk type is a letter; an upper-case first letter marks a chunk a decoder must know,
+        // and PNG defines four.
+        const bool letters = std::all_of(bytes + 4, bytes + 8, [](unsigned char c) { return std::isalpha(c) != 0; });
+        const bool critical = std::isupper(bytes[4]) != 0;
+        if (!letters || (critical && type != "IHDR" && type != "PLTE" && type != "IDAT" && type != "IEND"))
+            throw InputError(fmt::format("{}: corrupt PNG (chunk type {} at byte {} is {})", path, type, position,
+                                         letters ? "a critical chunk PNG does not define" : "not four letters"));
         if (type == "IDAT") compressedBytes += length;
         if (type == "IEND") {
             // Deflate encodes at most 258 bytes in a match of about 2 bits (1032 : 1): a header that claims more
@@ -98,6 +110,81 @@ std::vector<Sample> readChannel0(const std::string& path, void* input, const ima
     return samples;
 }
 
+// Decodes `path` with libspng when its layout is one decoded row by row into codes: 8- or 16-bit samples (grey,
+// grey and alpha, RGB or RGBA), not interlaced. Nothing for other layouts, which the caller reads through the
+// image codec module. Each row is decoded as stored (host-endian 16-bit samples, no gamma or transparency
+// applied, as the codec module reads it) and its channel 0 becomes int16 codes: for 16-bit samples, the sample
+// less 32768 with a code offset of 32768; for 8-bit samples, the sample itself. The codes stand for exactly
+// the heights the float path gives (the sample times the height scale, in double, rounded to float).
+std::optional<LoadedDem> loadWithSpng(const std::string& path, const DemLoadOptions& options) {
+    struct Closer {
+        void operator()(std::FILE* f) const { std::fclose(f); }
+        void operator()(spng_ctx* c) const { spng_ctx_free(c); }
+    };
+    std::unique_ptr<std::FILE, Closer> file(std::fopen(path.c_str(), "rb"));
+    if (!file) return std::nullopt;
+    std::unique_ptr<spng_ctx, Closer> ctx(spng_ctx_new(0));
+    if (!ctx || spng_set_png_file(ctx.get(), file.get()) != 0) return std::nullopt;
+    // A header libspng refuses (its own limits, a bad CRC) goes to the codec module, whose messages the
+    // loader's tests pin down.
+    spng_ihdr ihdr{};
+    if (spng_get_ihdr(ctx.get(), &ihdr) != 0) return std::nullopt;
+    int channels = 0;
+    switch (ihdr.color_type) {
+    case SPNG_COLOR_TYPE_GRAYSCALE: channels = 1; break;
+    case SPNG_COLOR_TYPE_GRAYSCALE_ALPHA: channels = 2; break;
+    case SPNG_COLOR_TYPE_TRUECOLOR: channels = 3; break;
+    case SPNG_COLOR_TYPE_TRUECOLOR_ALPHA: channels = 4; break;
+    default: return std::nullopt;  // palette
+    }
+    if ((ihdr.bit_depth != 8 && ihdr.bit_depth != 16) || ihdr.interlace_method != SPNG_INTERLACE_NONE)
+        return std::nullopt;
+
+    LoadedDem dem;
+    dem.path = path;
+    dem.driver = "PNG (libspng)";
+    const int64_t width = ihdr.width, height = ihdr.height;
+    dem.sourceWidth = width;
+    dem.sourceHeight = height;
+    checkRasterSize(path, width, height, options.maxBytes);
+    if (channels > 1)
+        dem.warnings.push_back(fmt::format("{}: {} channels, using channel 0 as height", path, channels));
+
+    const bool wide = ihdr.bit_depth == 16;
+    const int32_t offset = wide ? 32768 : 0;
+    const double scale = options.imageHeightScale;
+    // The largest sample's height must be a plausible one (the float path checks every sample alike).
+    const int32_t top = wide ? 65535 : 255;
+    const bool checkHeights = double(top) * scale > kMaxAbsHeightM;
+
+    int status = spng_decode_image(ctx.get(), nullptr, 0, SPNG_FMT_PNG, SPNG_DECODE_PROGRESSIVE);
+    if (status != 0) throw InputError(fmt::format("{}: cannot read PNG ({})", path, spng_strerror(status)));
+    const size_t rowBytes = size_t(width) * size_t(channels) * (wide ? 2 : 1);
+    std::vector<uint8_t> row(rowBytes);
+    std::vector<int16_t> codes = largeVector<int16_t>(static_cast<size_t>(width * height));
+    for (int64_t r = 0; r < height; ++r) {
+        status = spng_decode_row(ctx.get(), row.data(), row.size());
+        if (status != 0 && !(status == SPNG_EOI && r == height - 1))
+            throw InputError(fmt::format("{}: cannot read PNG (row {} of {}: {})", path, r, height, spng_strerror(status)));
+        // Image row 0 is the north edge; grid row 0 is the south edge.
+        int16_t* out = codes.data() + (height - 1 - r) * width;
+        if (wide) {
+            const auto* in = reinterpret_cast<const uint16_t*>(row.data());
+            for (int64_t i = 0; i < width; ++i) out[i] = static_cast<int16_t>(int32_t(in[i * channels]) - offset);
+        } else {
+            for (int64_t i = 0; i < width; ++i) out[i] = static_cast<int16_t>(row[size_t(i * channels)]);
+        }
+        if (checkHeights)
+            for (int64_t i = 0; i < width; ++i) {
+                const double heightM = double(int32_t(out[i]) + offset) * scale;
+                if (heightM > kMaxAbsHeightM) throwBadHeight(path, i, r, heightM);
+            }
+    }
+    dem.grid = makeGrid(path, width, height, options.imageCellSizeM, options.imageCellSizeM, std::move(codes), offset,
+                        scale);
+    return dem;
+}
+
 }  // namespace
 
 LoadedDem loadPngHeightMap(const std::string& path, const DemLoadOptions& options) {
@@ -109,6 +196,7 @@ LoadedDem loadPngHeightMap(const std::string& path, const DemLoadOptions& option
                                      options.imageHeightScale));
 
     checkPngIsComplete(path);
+    if (auto dem = loadWithSpng(path, options)) return std::move(*dem);
     // The codec module is loaded first: a failure to load it is no message of libpng's.
     const image_codec::Api& codec = image_codec::api();
     // libpng's own error lines are kept off stderr; OpenImageIO passes their text on through its errors.

@@ -356,7 +356,7 @@ TEST_CASE("Hostile inputs: DEMs cut short, corrupted, or holding impossible heig
         {"text named .tif", {"text.tif", "text.tif: not a raster GDAL can read"}},
         {"random bytes named .tif", {"noise.tif", "noise.tif: not a raster GDAL can read"}},
         {"PNG cut in half", {"truncated.png", "truncated.png: truncated PNG (IDAT chunk at byte"}},
-        {"PNG with a corrupt chunk type", {"bad-chunk.png", "bad-chunk.png: cannot read PNG"}},
+        {"PNG with a corrupt chunk type", {"bad-chunk.png", "bad-chunk.png: corrupt PNG (chunk type IDA"}},
         {"one row of samples", {"one-row.tif", "one-row.tif: 64 x 1 raster has no cell to trace (need at least 2 x 2)"}},
         {"every sample nodata", {"all-nodata.tif", "all-nodata.tif: every vertex is nodata"}},
         {"an undeclared NaN height", {"nan-height.tif", "nan-height.tif: height at column 5, row 5 is NaN (not declared as nodata)"}},

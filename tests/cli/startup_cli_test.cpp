@@ -1,5 +1,7 @@
-// Start-up: the executable does not load OpenImageIO; the image codec module is opened only when a PNG or EXR is
-// read or an EXR written (PNGs are written by libspng, linked in), and a missing module is one clear line.
+// Start-up: the executable does not load OpenImageIO; the image codec module is opened only when an EXR or a PNG
+// libspng does not decode is read, or an EXR written (PNGs are written and most are read by libspng, linked in),
+// and a missing module is one clear line.
+#include "support/png_rasters.h"
 #include "support/run_command.h"
 #include "support/sanitizers.h"
 
@@ -9,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 using namespace terracast::testing;
 namespace fs = std::filesystem;
@@ -49,6 +52,8 @@ TEST_CASE("CLI: the executable does not link OpenImageIO and opens the image cod
     const std::string dem =
         std::string(TERRACAST_SOURCE_DIR) + "/data-samples/landfire-storm-lake-mt-utm12n-int16-small-nodata.tif";
     const std::string png = std::string(TERRACAST_SOURCE_DIR) + "/data-samples/puget-sound-usgs-1025x1025-16bit-heightmap.png";
+    const std::string png4 = (dir / "grey4.png").string();
+    writePng(png4, 9, 7, 1, GDT_Byte, std::vector<double>(63, 5.0), {"NBITS=4"});
     const ScopedEnv missing("TERRACAST_IMAGE_CODEC", (dir / "no-such-codec.so").string());
     // GeoTIFF in, GeoTIFF or PNG out: the module is never looked for.
     const auto maps = runTerracast("horizon '" + dem + "' --azimuth 90 -o '" + (dir / "h.tif").string() + "'");
@@ -58,9 +63,14 @@ TEST_CASE("CLI: the executable does not link OpenImageIO and opens the image cod
     INFO(picture.err);
     CHECK(picture.exitCode == 0);
     CHECK(fs::file_size(dir / "p.png") > 0);
-    // An EXR out, or a PNG height map in: one line naming the module, no output file.
+    // A 16-bit PNG height map is decoded without the module (libspng, linked in).
+    const auto heights = runTerracast("horizon '" + png + "' --azimuth 90 -o '" + (dir / "ph.tif").string() + "'");
+    INFO(heights.err);
+    CHECK(heights.exitCode == 0);
+    CHECK(fs::exists(dir / "ph.tif"));
+    // An EXR out, or a 4-bit PNG height map in (left to the module): one line naming the module, no output file.
     for (const std::string& args : {"render '" + dem + "' --size 32x18 -o '" + (dir / "v.exr").string() + "'",
-                                    "horizon '" + png + "' --azimuth 90 -o '" + (dir / "w.tif").string() + "'"}) {
+                                    "horizon '" + png4 + "' --azimuth 90 -o '" + (dir / "w.tif").string() + "'"}) {
         const auto r = runTerracast(args);
         INFO(args << "\n" << r.err);
         CHECK(r.exitCode != 0);

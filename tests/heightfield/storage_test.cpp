@@ -12,6 +12,7 @@
 #include <cmath>
 #include <fstream>
 #include <random>
+#include <set>
 
 using namespace terracast;
 using namespace terracast::testing;
@@ -287,4 +288,55 @@ TEST_CASE("Storage: integer fractal terrain is int16 and matches the float terra
         for (int64_t i = 0; i < 257; ++i) REQUIRE(n.at(i, j) == std::round(f.at(i, j)));
     CHECK(bytesPerCell(n) <= 3.5);
     CHECK(bytesPerCell(f) <= 6.0);
+}
+
+TEST_CASE("Storage: a grid made from codes holds what the float constructor holds for their heights",
+          "[heightfield][storage]") {
+    // Samples as a PNG height map holds them (8 or 16 bits), under the height scales users give; the float
+    // constructor is the reference: the same storage, offset, scale, heights and pyramid, bit for bit.
+    const int64_t w = 97, h = 83;
+    std::mt19937 rng(5);
+    std::set<int> storages;
+    for (const int bits : {8, 16}) {
+        for (const double scale : {1.0, 0.1, 0.5, 2.0, 3.0, 0.3, 1e-7}) {
+            for (const bool narrow : {false, true}) {
+                INFO(bits << "-bit samples, " << scale << " m per unit, " << (narrow ? "narrow" : "full") << " range");
+                const int32_t top = bits == 8 ? 255 : 65535;
+                std::uniform_int_distribution<int32_t> sample(narrow ? top / 3 : 0, narrow ? top / 3 + 200 : top);
+                std::vector<int32_t> raw(size_t(w * h));
+                for (auto& r : raw) r = sample(rng);
+                if (!narrow) raw[0] = 0, raw[1] = top;  // both ends of the range
+                std::vector<float> heights(raw.size());
+                std::vector<int16_t> codes(raw.size());
+                const int32_t offset = bits == 16 ? 32768 : 0;
+                for (size_t k = 0; k < raw.size(); ++k) {
+                    heights[k] = float(double(raw[k]) * scale);
+                    codes[k] = int16_t(raw[k] - offset);
+                }
+                // Without the scale as a hint, heights off whole metres stay float32.
+                const double hint = narrow ? 0.0 : scale;
+                const HeightGrid a(w, h, 10.0, 10.0, heights, {}, StoragePolicy::Auto, hint);
+                const HeightGrid b(w, h, 10.0, 10.0, codes, offset, scale, hint);
+                storages.insert(int(a.storage()));
+                CHECK(b.storage() == a.storage());
+                CHECK(b.codeOffset() == a.codeOffset());
+                CHECK(b.codeScale() == a.codeScale());
+                CHECK(std::bit_cast<uint32_t>(b.minHeightM()) == std::bit_cast<uint32_t>(a.minHeightM()));
+                CHECK(std::bit_cast<uint32_t>(b.maxHeightM()) == std::bit_cast<uint32_t>(a.maxHeightM()));
+                CHECK(b.validCellCount() == a.validCellCount());
+                int64_t differ = 0;
+                for (int64_t j = 0; j < h; ++j)
+                    for (int64_t i = 0; i < w; ++i)
+                        differ += std::bit_cast<uint32_t>(a.at(i, j)) != std::bit_cast<uint32_t>(b.at(i, j));
+                REQUIRE(a.pyramidLevels() == b.pyramidLevels());
+                for (int k = 1; k <= a.pyramidLevels(); ++k)
+                    for (int64_t bj = 0; bj < a.pyramidBlocksY(k); ++bj)
+                        for (int64_t bi = 0; bi < a.pyramidBlocksX(k); ++bi)
+                            differ += a.blockMaxM(k, bi, bj) != b.blockMaxM(k, bi, bj) ||
+                                      a.blockMinM(k, bi, bj) != b.blockMinM(k, bi, bj);
+                CHECK(differ == 0);
+            }
+        }
+    }
+    CHECK(storages.size() == 2);  // both storages were made
 }

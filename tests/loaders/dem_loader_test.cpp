@@ -1,5 +1,6 @@
 // Loader tests on the real sample files. Expected figures come from `gdalinfo -stats` and from the tiles'
 // published extents; pixels are cross-checked by reading them independently with GDAL and OpenImageIO.
+#include "support/png_rasters.h"
 #include "support/temp_dir.h"
 #include "loaders/dem_loader.h"
 #include "tracer/core/resources.h"
@@ -24,6 +25,7 @@
 using namespace terracast;
 namespace fs = std::filesystem;
 using terracast::testing::TempDir;
+using terracast::testing::writePng;
 
 namespace {
 
@@ -238,7 +240,7 @@ TEST_CASE("PNG height map scales raw 16-bit values and uses the given cell size"
     options.imageHeightScale = 0.1;
     const LoadedDem dem = loadDem(kPugetSound, options);
     const HeightGrid& grid = dem.grid;
-    CHECK(dem.driver == "PNG (OpenImageIO)");
+    CHECK(dem.driver == "PNG (libspng)");
     CHECK_FALSE(dem.geo.georeferenced);
     CHECK(grid.width() == 1025);
     CHECK(grid.height() == 1025);
@@ -267,16 +269,79 @@ TEST_CASE("PNG height maps are flipped so that grid row 0 is the bottom image ro
     options.imageHeightScale = 0.1;
     const LoadedDem dem = loadDem(kPugetSound, options);
 
+    // Every sample, decoded independently by OpenImageIO: the height is the sample times the scale, in double,
+    // rounded to float, bit for bit.
     auto input = OIIO::ImageInput::open(kPugetSound);
     REQUIRE(input);
     const OIIO::ImageSpec& spec = input->spec();
     std::vector<uint16_t> raw(static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height));
     REQUIRE(input->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT16, raw.data()));
     const int64_t h = dem.grid.height();
-    for (const auto& [x, y] : {std::pair{300, 10}, std::pair{700, 900}, std::pair{512, 512}}) {
-        const uint16_t stored = raw[static_cast<size_t>(y) * static_cast<size_t>(spec.width) + static_cast<size_t>(x)];
-        REQUIRE(stored > 0);
-        CHECK(dem.grid.at(x, h - 1 - y) == Approx(stored * 0.1).epsilon(1e-6));
+    REQUIRE(dem.grid.width() == spec.width);
+    REQUIRE(h == spec.height);
+    int64_t differ = 0, positive = 0;
+    for (int64_t y = 0; y < h; ++y)
+        for (int64_t x = 0; x < spec.width; ++x) {
+            const uint16_t stored = raw[static_cast<size_t>(y * spec.width + x)];
+            positive += stored > 0;
+            differ += dem.grid.at(x, h - 1 - y) != static_cast<float>(double(stored) * 0.1);
+        }
+    CHECK(positive > h * h / 2);
+    CHECK(differ == 0);
+}
+
+TEST_CASE("PNG height maps: 8- and 16-bit grey, RGB and grey with alpha decode as OpenImageIO reads channel 0",
+          "[loaders]") {
+    TempDir dir;
+    const int w = 67, h = 41;
+    struct Case {
+        const char* name;
+        int bands;
+        GDALDataType type;
+        int top;
+        std::vector<std::string> options;
+        const char* driver;
+        int expand;  // what the reader multiplies samples by
+    };
+    const Case cases[] = {
+        {"grey8", 1, GDT_Byte, 254, {}, "PNG (libspng)", 1},
+        {"grey16", 1, GDT_UInt16, 65534, {}, "PNG (libspng)", 1},
+        {"grey-alpha8", 2, GDT_Byte, 254, {}, "PNG (libspng)", 1},
+        {"rgb16", 3, GDT_UInt16, 65533, {}, "PNG (libspng)", 1},
+        {"rgba8", 4, GDT_Byte, 251, {}, "PNG (libspng)", 1},
+        // 4-bit grey is left to OpenImageIO, which stretches it to 8 bits (15 becomes 255).
+        {"grey4", 1, GDT_Byte, 15, {"NBITS=4"}, "PNG (OpenImageIO)", 17},
+    };
+    for (const Case& c : cases) {
+        INFO(c.name);
+        std::vector<double> samples(size_t(w * h));
+        for (size_t k = 0; k < samples.size(); ++k) samples[k] = double((k * 7919 + k / w * 13) % size_t(c.top + 1));
+        const std::string path = dir.file(std::string(c.name) + ".png");
+        writePng(path, w, h, c.bands, c.type, samples, c.options);
+        DemLoadOptions options;
+        options.imageHeightScale = 0.25;
+        const LoadedDem dem = loadDem(path, options);
+        CHECK(dem.driver == c.driver);
+        CHECK(anyWarningContains(dem, "using channel 0") == (c.bands > 1));
+        // Channel 0 as stored: not multiplied by alpha, which OpenImageIO does unless asked not to.
+        OIIO::ImageSpec config;
+        config.attribute("oiio:UnassociatedAlpha", 1);
+        auto input = OIIO::ImageInput::open(path, &config);
+        REQUIRE(input);
+        std::vector<uint8_t> raw8(size_t(w * h));
+        std::vector<uint16_t> raw16(size_t(w * h));
+        if (c.type == GDT_Byte) REQUIRE(input->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT8, raw8.data()));
+        else REQUIRE(input->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT16, raw16.data()));
+        int64_t differ = 0;
+        for (int64_t y = 0; y < h; ++y)
+            for (int64_t x = 0; x < w; ++x) {
+                const size_t k = size_t(y * w + x);
+                const double stored = c.type == GDT_Byte ? double(raw8[k]) : double(raw16[k]);
+                differ += dem.grid.at(x, h - 1 - y) != static_cast<float>(stored * 0.25);
+            }
+        CHECK(differ == 0);
+        // The samples written, as a check on the reference itself.
+        CHECK(dem.grid.at(5, h - 1) == static_cast<float>(samples[5] * c.expand * 0.25));
     }
 }
 
