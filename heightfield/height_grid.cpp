@@ -307,7 +307,6 @@ std::vector<float> HeightGrid::copyHeights() const {
 
 void HeightGrid::buildPyramid() {
     const auto start = std::chrono::steady_clock::now();
-    std::vector<std::vector<int16_t>> built;  // levels 1..n
 
     const PyramidCoding coding = PyramidCoding::forHeights(storage_ == HeightStorage::Int16, codeOffset_, codeScale_,
                                                            minHeightM_, maxHeightM_);
@@ -315,23 +314,37 @@ void HeightGrid::buildPyramid() {
     pyramidScale_ = coding.scale;
     pyramidCodesPerMetre_ = coding.codesPerMetre;
 
-    // Level 1 straight from the vertices (pyramid_build.h), a band of block rows per thread.
-    const int64_t bx1 = (cellsX() + 1) / 2, by1 = (cellsY() + 1) / 2;
-    std::vector<int16_t> high1(static_cast<size_t>(bx1 * by1)), low1(high1.size());
+    // The levels are made where they are kept (the layout storePyramid gives), so that building them holds no
+    // more than the pyramid itself: level 1's maxima straight from the vertices (pyramid_build.h), its minima
+    // two block rows at a time, each pair reduced at once to a row of level 2's minima (the minimum pyramid
+    // keeps no level 1), then each level above from the one below.
+    const int levels = pyramidLevelCount(cellsX(), cellsY());
+    levelStart_.clear();
+    levelBlocksX_.clear();
+    int64_t total = 0;
+    for (int k = 1; k <= levels; ++k) {
+        levelStart_.push_back(total);
+        levelBlocksX_.push_back(pyramidBlocksX(k));
+        total += pyramidBlocksX(k) * pyramidBlocksY(k);
+    }
+    const int64_t minStart = levels >= 2 ? levelStart_[1] : total;
+    pyramidCodes_ = largeVector<int16_t>(static_cast<size_t>(total));
+    pyramidMinCodes_ = largeVector<int16_t>(static_cast<size_t>(total - minStart));
+    const int64_t bx1 = pyramidBlocksX(1), by1 = pyramidBlocksY(1);
+    const int64_t by2 = levels >= 2 ? pyramidBlocksY(2) : by1;
+    const int64_t rowsPerItem = levels >= 2 ? 2 : 1;
     auto levelOne = [&](auto get, auto none, auto highCode, auto lowCode) {
-        parallelRanges(by1, 3 * width_, [&](int64_t b0, int64_t b1) {
-            pyramidLevelOneRows(width_, cellsX(), cellsY(), valid_, b0, b1, get, none.first, none.second, highCode,
-                                lowCode, high1.data(), low1.data());
+        parallelRanges(by2, 3 * rowsPerItem * width_, [&](int64_t r0, int64_t r1) {
+            std::vector<int16_t> lows(static_cast<size_t>(2 * bx1));
+            for (int64_t r = r0; r < r1; ++r) {
+                const int64_t b0 = r * rowsPerItem, b1 = std::min(b0 + rowsPerItem, by1);
+                pyramidLevelOneRows(width_, cellsX(), cellsY(), valid_, b0, b1, get, none.first, none.second,
+                                    highCode, lowCode, pyramidCodes_.data() + b0 * bx1, lows.data());
+                if (levels >= 2)
+                    pyramidParentLevel(lows.data(), bx1, b1 - b0, false,
+                                       pyramidMinCodes_.data() + r * levelBlocksX_[1]);
+            }
         });
-    };
-    // Levels 2..n, each from the one below.
-    auto upperLevels = [&](std::vector<std::vector<int16_t>>& levels, bool highest) {
-        int64_t bx = bx1, by = by1;
-        while (bx > 1 || by > 1) {
-            levels.push_back(pyramidParentLevel(levels.back(), bx, by, highest));
-            bx = (bx + 1) / 2;
-            by = (by + 1) / 2;
-        }
     };
     if (storage_ == HeightStorage::Int16) {
         const int16_t* codes = codes_.data();
@@ -345,12 +358,14 @@ void HeightGrid::buildPyramid() {
                  [&](float z) { return z == -kInf ? PyramidCoding::kNoMax : coding.encodeUp(z); },
                  [&](float z) { return z == kInf ? PyramidCoding::kNoMin : coding.encodeDown(z); });
     }
-    built.push_back(std::move(high1));
-    std::vector<std::vector<int16_t>> lows;  // the minimum pyramid, levels 1..n
-    lows.push_back(std::move(low1));
-    upperLevels(built, true);
-    upperLevels(lows, false);
-    storePyramid(built, lows, 1, int(built.size()));
+    for (int k = 2; k <= levels; ++k) {
+        const int64_t px = pyramidBlocksX(k - 1), py = pyramidBlocksY(k - 1);
+        pyramidParentLevel(pyramidCodes_.data() + levelStart_[size_t(k - 2)], px, py, true,
+                           pyramidCodes_.data() + levelStart_[size_t(k - 1)]);
+        if (k >= 3)
+            pyramidParentLevel(pyramidMinCodes_.data() + (levelStart_[size_t(k - 2)] - minStart), px, py, false,
+                               pyramidMinCodes_.data() + (levelStart_[size_t(k - 1)] - minStart));
+    }
     pyramidBuildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 

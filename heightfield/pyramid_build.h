@@ -41,7 +41,8 @@ inline void pairExtremes(const int16_t* in, int64_t pairs, bool highest, int16_t
 // codes from its extremes, which are noneHigh and noneLow for a block without a valid vertex. For T = int16_t the
 // values are codes already and their extremes are stored as they are (highCode and lowCode are not called). Each block row
 // first takes the column extremes of its three vertex rows (a loop over contiguous values the compiler
-// vectorises), then the extremes of three columns per block.
+// vectorises), then the extremes of three columns per block. Block row bj is stored at row bj - b0 of high1 and
+// low1 (bx1 = (cellsX + 1) / 2 codes per row).
 template <class T, class Get, class HighCode, class LowCode>
 void pyramidLevelOneRows(int64_t width, int64_t cellsX, int64_t cellsY, const std::vector<uint64_t>& validBits,
                          int64_t b0, int64_t b1, Get get, T noneHigh, T noneLow, HighCode highCode, LowCode lowCode,
@@ -85,8 +86,8 @@ void pyramidLevelOneRows(int64_t width, int64_t cellsX, int64_t cellsY, const st
                 l2[i] = std::min(l[i], l[i + 1]);
             }
         }
-        int16_t* high = high1 + bj * bx1;
-        int16_t* low = low1 + bj * bx1;
+        int16_t* high = high1 + (bj - b0) * bx1;
+        int16_t* low = low1 + (bj - b0) * bx1;
         if constexpr (std::is_same_v<T, int16_t>) {
             // Codes are their own pyramid codes (the caller's highCode and lowCode leave them as they are).
             pairExtremes(hi2.data(), bx1, true, high);
