@@ -321,6 +321,8 @@ void HeightGrid::buildPyramid() {
     const int levels = pyramidLevelCount(cellsX(), cellsY());
     levelStart_.clear();
     levelBlocksX_.clear();
+    levelStart_.reserve(size_t(levels));
+    levelBlocksX_.reserve(size_t(levels));
     int64_t total = 0;
     for (int k = 1; k <= levels; ++k) {
         levelStart_.push_back(total);
