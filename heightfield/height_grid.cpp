@@ -97,7 +97,6 @@ HeightGrid::HeightGrid(int64_t width, int64_t height, double cellSizeXM, double 
     // Which of the 65536 codes occur: the height range, and the only heights a re-basing must carry over.
     std::vector<uint8_t> occurs(65536, 0);
     {
-        std::vector<std::vector<uint8_t>> seen;
         std::mutex merge;
         parallelRanges(int64_t(n), 1, [&](int64_t k0, int64_t k1) {
             std::vector<uint8_t> mine(65536, 0);

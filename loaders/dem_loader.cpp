@@ -582,7 +582,8 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, c
 LoadedDem loadAsStored(const std::string& path, const DemLoadOptions& options) {
     checkInputFile(path, "a DEM");
     const ExitOnCancel interruptible;  // GDAL may block (a network path); nothing is written yet
-    // The one place where a format is chosen: PNG height maps through OpenImageIO, everything else through GDAL.
+    // The one place where a format is chosen: PNG height maps through png_height_map.cpp, everything else through
+    // GDAL.
     if (lowerExtension(path) == ".png") {
         if (options.tileCacheBytes > 0.0)
             throw InputError(path + ": PNG height maps are read whole, not as tiles (convert it to a tiled GeoTIFF "

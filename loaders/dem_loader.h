@@ -1,5 +1,5 @@
 // Reading elevation rasters into a HeightGrid: GDAL for GeoTIFF, SRTM .hgt and any single-band raster;
-// OpenImageIO for 8- and 16-bit grayscale PNG height maps.
+// libspng (or OpenImageIO for palettes, 1- to 4-bit grey and interlacing) for PNG height maps.
 #pragma once
 
 #include "heightfield/height_grid.h"

@@ -125,6 +125,10 @@ std::optional<LoadedDem> loadWithSpng(const std::string& path, const DemLoadOpti
     if (!file) return std::nullopt;
     std::unique_ptr<spng_ctx, Closer> ctx(spng_ctx_new(0));
     if (!ctx || spng_set_png_file(ctx.get(), file.get()) != 0) return std::nullopt;
+    // libspng inflates compressed text and colour-profile chunks before the first row, by default up to 2 GiB
+    // each: a few kilobytes of file could claim gigabytes. A height map needs none of them; these bounds keep
+    // what they may take near libpng's (8 MB per chunk); a PNG past them is read through the codec module.
+    if (spng_set_chunk_limits(ctx.get(), size_t(8) << 20, size_t(32) << 20) != 0) return std::nullopt;
     // A header libspng refuses (its own limits, a bad CRC) goes to the codec module, whose messages the
     // loader's tests pin down.
     spng_ihdr ihdr{};
@@ -158,6 +162,8 @@ std::optional<LoadedDem> loadWithSpng(const std::string& path, const DemLoadOpti
     const bool checkHeights = double(top) * scale > kMaxAbsHeightM;
 
     int status = spng_decode_image(ctx.get(), nullptr, 0, SPNG_FMT_PNG, SPNG_DECODE_PROGRESSIVE);
+    // An ancillary chunk past those bounds: libpng, behind the codec module, skips such chunks with a warning.
+    if (status == SPNG_ECHUNK_LIMITS) return std::nullopt;
     if (status != 0) throw InputError(fmt::format("{}: cannot read PNG ({})", path, spng_strerror(status)));
     const size_t rowBytes = size_t(width) * size_t(channels) * (wide ? 2 : 1);
     std::vector<uint8_t> row(rowBytes);

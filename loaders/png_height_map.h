@@ -1,5 +1,6 @@
-// PNG height maps, read whole through the image codec module (OpenImageIO). Internal to the loaders: loadDem
-// chooses this reader for a .png.
+// PNG height maps, read whole: by libspng row by row into int16 codes, or through the image codec module
+// (OpenImageIO) for the layouts libspng is not used for. Internal to the loaders: loadDem chooses this reader for a
+// .png.
 #pragma once
 
 #include "loaders/dem_loader.h"

@@ -599,3 +599,77 @@ TEST_CASE("NaN nodata marks vertices invalid instead of failing", "[loaders]") {
     CHECK(dem.grid.validCellCount() == 5);
     CHECK(dem.grid.maxHeightM() == 11.0f);
 }
+
+namespace {
+
+// A zlib stream that inflates to 1 + 258 * matches zero bytes in a few bits per 258: one fixed-Huffman deflate
+// block (RFC 1951) of a literal 0 and `matches` copies of length 258 at distance 1, then the Adler-32 of the
+// zeros (RFC 1950).
+std::string zeroBomb(int64_t matches) {
+    std::string out = "\x78\x01";
+    uint32_t bits = 0;
+    int count = 0;
+    auto put = [&](uint32_t value, int n) {  // least significant bit first
+        for (int k = 0; k < n; ++k) {
+            bits |= ((value >> k) & 1u) << count;
+            if (++count == 8) {
+                out += char(bits);
+                bits = 0;
+                count = 0;
+            }
+        }
+    };
+    auto code = [&](uint32_t value, int n) {  // Huffman codes go most significant bit first
+        for (int k = n - 1; k >= 0; --k) put((value >> k) & 1u, 1);
+    };
+    put(1, 1);                  // the last block
+    put(1, 2);                  // fixed Huffman codes
+    code(0x30, 8);              // literal 0
+    for (int64_t m = 0; m < matches; ++m) {
+        code(0xC5, 8);          // length 258 (symbol 285)
+        code(0, 5);             // distance 1 (code 0)
+    }
+    code(0, 7);                 // end of block (symbol 256)
+    if (count > 0) out += char(bits);
+    const uint64_t n = 1 + 258 * uint64_t(matches);
+    const uint32_t a = 1, b = uint32_t(n % 65521);  // Adler-32 of n zero bytes
+    const uint32_t adler = b << 16 | a;
+    for (int s = 24; s >= 0; s -= 8) out += char((adler >> s) & 0xff);
+    return out;
+}
+
+uint32_t crc32Of(const std::string& bytes) {
+    uint32_t crc = 0xffffffffu;
+    for (unsigned char c : bytes) {
+        crc ^= c;
+        for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
+    }
+    return ~crc;
+}
+
+}  // namespace
+
+TEST_CASE("A PNG height map whose text chunk inflates to 256 MiB loads without inflating it", "[loaders]") {
+    // A zTXt chunk of under 2 MB that inflates to 256 MiB, right after the header: libspng stops at its bounds on
+    // ancillary chunks, and the map is read through OpenImageIO, whose libpng skips the chunk.
+    std::ifstream in(kPugetSound, std::ios::binary);
+    std::string png((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string body = "zTXt" + std::string("Comment") + '\0' + '\0' + zeroBomb((int64_t(256) << 20) / 258);
+    std::string chunk;
+    const auto length = uint32_t(body.size() - 4);
+    for (int s = 24; s >= 0; s -= 8) chunk += char((length >> s) & 0xff);
+    chunk += body;
+    const uint32_t crc = crc32Of(body);
+    for (int s = 24; s >= 0; s -= 8) chunk += char((crc >> s) & 0xff);
+    png.insert(33, chunk);  // after the signature (8 bytes) and IHDR (25)
+    REQUIRE(chunk.size() < (size_t(2) << 20));
+    TempDir dir;
+    const std::string path = dir.file("bomb.png");
+    writeBytes(path, png);
+    const double before = peakResidentBytes();
+    DemLoadOptions options;
+    const LoadedDem dem = loadDem(path, options);
+    CHECK(dem.grid.width() == 1025);
+    CHECK(dem.driver == "PNG (OpenImageIO)");
+    CHECK(peakResidentBytes() - before < 64.0 * 1024 * 1024);
+}
