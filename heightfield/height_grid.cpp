@@ -85,7 +85,7 @@ HeightGrid::HeightGrid(int64_t width, int64_t height, double cellSizeXM, double 
 }
 
 HeightGrid::HeightGrid(int64_t width, int64_t height, double cellSizeXM, double cellSizeYM, std::vector<int16_t> codes,
-                       int32_t codeOffset, double codeScale, double scaleHint)
+                       int32_t codeOffset, double codeScale, double scaleHint, std::vector<uint8_t> valid)
     : width_(width), height_(height), cellSizeXM_(cellSizeXM), cellSizeYM_(cellSizeYM), storage_(HeightStorage::Int16),
       policy_(StoragePolicy::Auto), scaleHint_(scaleHint), codes_(std::move(codes)), codeOffset_(codeOffset),
       codeScale_(codeScale) {
@@ -94,13 +94,24 @@ HeightGrid::HeightGrid(int64_t width, int64_t height, double cellSizeXM, double 
     if (codes_.size() != n)
         throw GridError("expected " + std::to_string(n) + " heights, got " + std::to_string(codes_.size()));
     if (!(codeScale > 0.0) || !std::isfinite(codeScale)) throw GridError("height codes need a positive, finite scale");
-    // Which of the 65536 codes occur: the height range, and the only heights a re-basing must carry over.
+    if (!valid.empty() && valid.size() != n)
+        throw GridError("expected " + std::to_string(n) + " validity flags, got " + std::to_string(valid.size()));
+    const bool holes = std::find(valid.begin(), valid.end(), uint8_t(0)) != valid.end();
+    if (holes) {
+        valid_.assign((n + 63) / 64, 0);
+        for (size_t k = 0; k < n; ++k)
+            if (valid[k] != 0) setBit(valid_, int64_t(k));
+    }
+    std::vector<uint8_t>().swap(valid);
+    // Which of the 65536 codes occur at valid vertices: the height range, and the only heights a re-basing must
+    // carry over.
     std::vector<uint8_t> occurs(65536, 0);
     {
         std::mutex merge;
         parallelRanges(int64_t(n), 1, [&](int64_t k0, int64_t k1) {
             std::vector<uint8_t> mine(65536, 0);
-            for (int64_t k = k0; k < k1; ++k) mine[size_t(int32_t(codes_[size_t(k)]) - kLowestCode)] = 1;
+            for (int64_t k = k0; k < k1; ++k)
+                if (!holes || bit(valid_, k)) mine[size_t(int32_t(codes_[size_t(k)]) - kLowestCode)] = 1;
             const std::lock_guard<std::mutex> lock(merge);
             for (size_t c = 0; c < mine.size(); ++c) occurs[c] |= mine[c];
         });
@@ -111,12 +122,17 @@ HeightGrid::HeightGrid(int64_t width, int64_t height, double cellSizeXM, double 
             lowCode = std::min(lowCode, c);
             highCode = std::max(highCode, c);
         }
-    minHeightM_ = decodeHeightCode(lowCode, codeOffset_, codeScale_);
-    maxHeightM_ = decodeHeightCode(highCode, codeOffset_, codeScale_);
+    // As the float constructor: with no valid vertex the range is 0 m.
+    minHeightM_ = lowCode <= highCode ? decodeHeightCode(lowCode, codeOffset_, codeScale_) : 0.0f;
+    maxHeightM_ = lowCode <= highCode ? decodeHeightCode(highCode, codeOffset_, codeScale_) : 0.0f;
     if (!std::isfinite(minHeightM_) || !std::isfinite(maxHeightM_))
         throw GridError("heights decoded from the codes are not finite");
     nodataVertices_ = 0;
-    validCells_ = cellsX() * cellsY();
+    if (holes) {
+        nodataVertices_ = int64_t(n);
+        for (const uint64_t word : valid_) nodataVertices_ -= std::popcount(word);
+    }
+    countValidCells();
     // The float constructor's choice (chooseStorage, tryInt16), made on the codes that occur: a table from each
     // code to the code the chosen offset and scale give its height.
     bool chosen = false;
@@ -132,10 +148,14 @@ HeightGrid::HeightGrid(int64_t width, int64_t height, double cellSizeXM, double 
             lossless = code.has_value();
         }
         if (!lossless) continue;
-        if (s != codeScale_ || *offset != codeOffset_) {
+        // A nodata vertex holds what the float constructor stores for its 0 m: that height's code, or the lowest.
+        const auto zero = int16Code(0.0f, s, *offset);
+        const int16_t hole = int16_t(zero ? *zero : kLowestCode);
+        if (holes || s != codeScale_ || *offset != codeOffset_) {
             int16_t* q = codes_.data();
             parallelRanges(int64_t(n), 1, [&](int64_t k0, int64_t k1) {
-                for (int64_t k = k0; k < k1; ++k) q[k] = table[size_t(int32_t(q[k]) - kLowestCode)];
+                for (int64_t k = k0; k < k1; ++k)
+                    q[k] = holes && !bit(valid_, k) ? hole : table[size_t(int32_t(q[k]) - kLowestCode)];
             });
         }
         codeOffset_ = *offset;
@@ -147,7 +167,9 @@ HeightGrid::HeightGrid(int64_t width, int64_t height, double cellSizeXM, double 
         // As the float constructor keeps heights no int16 code holds exactly: float32.
         heightsM_ = largeVector<float>(n);
         parallelRanges(int64_t(n), 1, [&](int64_t k0, int64_t k1) {
-            for (int64_t k = k0; k < k1; ++k) heightsM_[size_t(k)] = decodeHeightCode(codes_[size_t(k)], codeOffset_, codeScale_);
+            for (int64_t k = k0; k < k1; ++k)
+                heightsM_[size_t(k)] =
+                    holes && !bit(valid_, k) ? 0.0f : decodeHeightCode(codes_[size_t(k)], codeOffset_, codeScale_);
         });
         std::vector<int16_t>().swap(codes_);
         storage_ = HeightStorage::Float32;
@@ -176,7 +198,16 @@ void HeightGrid::finish() {
         }
     }
     if (nodataVertices_ == 0) std::vector<uint64_t>().swap(valid_);
+    countValidCells();
+    // Heights of vertices that belong to no valid cell still bound the box; harmless and conservative.
+    if (lo > hi) lo = hi = 0.0f;
+    minHeightM_ = lo;
+    maxHeightM_ = hi;
+    if (policy_ == StoragePolicy::Auto && storage_ == HeightStorage::Float32) chooseStorage();
+    buildPyramid();
+}
 
+void HeightGrid::countValidCells() {
     std::vector<uint64_t>().swap(cellValid_);
     validCells_ = cellsX() * cellsY();
     if (!valid_.empty()) {
@@ -190,12 +221,6 @@ void HeightGrid::finish() {
                 validCells_ += ok ? 1 : 0;
             }
     }
-    // Heights of vertices that belong to no valid cell still bound the box; harmless and conservative.
-    if (lo > hi) lo = hi = 0.0f;
-    minHeightM_ = lo;
-    maxHeightM_ = hi;
-    if (policy_ == StoragePolicy::Auto && storage_ == HeightStorage::Float32) chooseStorage();
-    buildPyramid();
 }
 
 std::vector<double> int16CandidateScales(double scaleHint) {

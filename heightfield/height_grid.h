@@ -144,13 +144,14 @@ public:
     HeightGrid(int64_t width, int64_t height, double cellSizeXM, double cellSizeYM, std::vector<float> heightsM,
                std::vector<uint8_t> valid = {}, StoragePolicy policy = StoragePolicy::Auto, double scaleHint = 0.0);
 
-    // A grid of integer samples decoded straight into int16 codes, without a float copy of the raster (no nodata):
-    // vertex k's height is decodeHeightCode(codes[k], codeOffset, codeScale). The grid then holds exactly what the
-    // constructor above holds for those heights with StoragePolicy::Auto and `scaleHint` (the same storage, codes
-    // and pyramid): the codes are re-based in place to the offset and scale it chooses, or decoded to float32 when
-    // it would choose that. Throws GridError as the constructor above does.
+    // A grid of integer samples decoded straight into int16 codes, without a float copy of the raster: vertex k's
+    // height is decodeHeightCode(codes[k], codeOffset, codeScale); `valid` as above (a nodata vertex's code is not
+    // read). The grid then holds exactly what the constructor above holds for those heights, with 0 m at the
+    // nodata vertices, StoragePolicy::Auto and `scaleHint` (the same storage, codes, validity and pyramid): the
+    // codes are re-based in place to the offset and scale it chooses, or decoded to float32 when it would choose
+    // that. Throws GridError as the constructor above does.
     HeightGrid(int64_t width, int64_t height, double cellSizeXM, double cellSizeYM, std::vector<int16_t> codes,
-               int32_t codeOffset, double codeScale, double scaleHint = 0.0);
+               int32_t codeOffset, double codeScale, double scaleHint = 0.0, std::vector<uint8_t> valid = {});
 
     // A tiled grid: the heights stay in `tiles`, read as rays need them; the grid keeps the summary's range,
     // counts and storage, and the pyramid levels above those the tiles hold. `summary` must describe the tiles.
@@ -284,6 +285,8 @@ private:
     void storePyramid(std::vector<std::vector<int16_t>>& highs, std::vector<std::vector<int16_t>>& lows, int first,
                       int levels);
     void finish();
+    // cellValid_ and validCells_ from the vertex flags (every cell valid when there are none).
+    void countValidCells();
     bool tryInt16(double scale);
     void chooseStorage();
     void buildPyramid();

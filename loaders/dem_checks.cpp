@@ -81,10 +81,10 @@ HeightGrid makeGrid(const std::string& path, int64_t width, int64_t height, doub
 }
 
 HeightGrid makeGrid(const std::string& path, int64_t width, int64_t height, double cellSizeXM, double cellSizeYM,
-                    std::vector<int16_t> codes, int32_t codeOffset, double metresPerUnit) {
+                    std::vector<int16_t> codes, int32_t codeOffset, double metresPerUnit, std::vector<uint8_t> valid) {
     return checkedGrid(path, width, height, cellSizeXM, cellSizeYM, [&] {
         return HeightGrid(width, height, cellSizeXM, cellSizeYM, std::move(codes), codeOffset, metresPerUnit,
-                          metresPerUnit);
+                          metresPerUnit, std::move(valid));
     });
 }
 

@@ -35,10 +35,10 @@ void checkRasterSize(const std::string& path, int64_t width, int64_t height, dou
 // `metresPerUnit` is the source's vertical unit, offered to the grid as a candidate scale for int16 storage.
 HeightGrid makeGrid(const std::string& path, int64_t width, int64_t height, double cellSizeXM, double cellSizeYM,
                     std::vector<float> heightsM, std::vector<uint8_t> valid, double metresPerUnit);
-// The same from int16 codes of integer samples (HeightGrid's code constructor; no nodata), `metresPerUnit` being
-// the codes' own scale.
+// The same from int16 codes of integer samples (HeightGrid's code constructor), `metresPerUnit` being the codes'
+// own scale; `valid` as above.
 HeightGrid makeGrid(const std::string& path, int64_t width, int64_t height, double cellSizeXM, double cellSizeYM,
-                    std::vector<int16_t> codes, int32_t codeOffset, double metresPerUnit);
+                    std::vector<int16_t> codes, int32_t codeOffset, double metresPerUnit, std::vector<uint8_t> valid = {});
 
 // Reports a non-finite or out-of-range height at raster (column, row).
 [[noreturn]] void throwBadHeight(const std::string& path, int64_t column, int64_t row, double heightM);

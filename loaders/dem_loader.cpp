@@ -267,6 +267,7 @@ struct DemWindowReader::Impl {
     double nodata = 0.0;
     bool float32 = false;
     bool storedInBlocks = false;  // blocks narrower than the rows, or a VRT
+    int64_t blockRows = 1;        // rows of band 1's storage blocks
     bool wholeMetres = false;  // Int16 band in metres, without scale or offset
     bool nodataInt16 = false;  // the nodata value is one an Int16 sample can hold
     mutable std::mutex readMutex;  // for `dataset` and `band`
@@ -317,6 +318,7 @@ struct DemWindowReader::Impl {
         int blockX = 0, blockY = 0;
         band->GetBlockSize(&blockX, &blockY);
         storedInBlocks = driver == "VRT" || blockX < width;
+        blockRows = std::max(1, blockY);
         nodataInt16 = hasNodata && nodata == std::trunc(nodata) && nodata >= -32768.0 && nodata <= 32767.0;
     }
 
@@ -409,6 +411,20 @@ struct DemWindowReader::Impl {
         lock = std::unique_lock<std::mutex>(readMutex);
         lastHandle = 0;
         return band;
+    }
+
+    // Drops the blocks GDAL's cache holds of every opening: a whole raster read band by band need not keep the
+    // decoded raster a second time beside the grid.
+    void dropCachedBlocks() const {
+        {
+            const std::lock_guard<std::mutex> lock(readMutex);
+            band->FlushCache(false);
+        }
+        const std::lock_guard<std::mutex> list(handlesMutex);
+        for (const auto& h : handles) {
+            const std::lock_guard<std::mutex> lock(h->mutex);
+            h->band->FlushCache(false);
+        }
     }
 
     void readWholeMetres(int64_t i0, int64_t j0, int64_t w, int64_t h, int16_t* metres, uint8_t* valid) const {
@@ -549,8 +565,13 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, c
     dem.warnings = reader.warnings;
     const int64_t width = reader.width, height = reader.height;
     const auto vertexCount = static_cast<size_t>(width * height);
-    std::vector<float> heightsM = largeVector<float>(vertexCount);
-    std::vector<uint8_t> valid;
+    // 16-bit integers in metres go straight into the grid's int16 codes, without a float copy of the raster.
+    const bool codes = reader.wholeMetres;
+    std::vector<float> heightsM;
+    std::vector<int16_t> metres;
+    if (codes) metres = largeVector<int16_t>(vertexCount);
+    else heightsM = largeVector<float>(vertexCount);
+    std::vector<uint8_t> valid, bandValid;
     if (reader.hasNodata) valid = largeVector<uint8_t>(vertexCount, 1);
     // Raster row r is grid row height - 1 - r when the raster's rows run north to south (flipRows), else r.
     const auto gridRows = [&](int64_t first, int64_t end) {
@@ -560,21 +581,44 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, c
     const auto [firstRow, endRow] = sharedRows(height, shared ? ranks::rank() : 0, parts);
     // From the first raster row on (the grid's last), so that a bad height is reported at the first raster row
     // that holds one (in a shared load: the first of the rank that meets one first; that rank ends them all).
-    const int64_t rowsPerBand = std::max<int64_t>(1, (int64_t{1} << 21) / width);
+    // Bands of about 2^21 samples in whole storage blocks, whose decoded blocks are dropped from GDAL's cache once
+    // read: no block is decoded twice, and the cache never holds the raster beside the grid.
+    const int64_t rowsPerBand = std::max<int64_t>(1, (int64_t{1} << 21) / width / reader.blockRows) * reader.blockRows;
     for (int64_t r = firstRow; r < endRow; r += rowsPerBand) {
         const auto [j0, j1] = gridRows(r, std::min(endRow, r + rowsPerBand));
         const auto offset = static_cast<size_t>(j0 * width);
-        reader.read(0, j0, width, j1 - j0, heightsM.data() + offset, valid.empty() ? nullptr : valid.data() + offset);
+        if (codes) {
+            // Flags come with the codes; without nodata they go to a scratch band.
+            uint8_t* flags = valid.empty() ? nullptr : valid.data() + offset;
+            if (flags == nullptr) {
+                bandValid.resize(static_cast<size_t>((j1 - j0) * width));
+                flags = bandValid.data();
+            }
+            reader.readWholeMetres(0, j0, width, j1 - j0, metres.data() + offset, flags);
+        } else {
+            reader.read(0, j0, width, j1 - j0, heightsM.data() + offset, valid.empty() ? nullptr : valid.data() + offset);
+        }
+        reader.dropCachedBlocks();
     }
+    std::vector<uint8_t>().swap(bandValid);
     for (int q = 0; shared && q < parts; ++q) {
         const auto [first, end] = sharedRows(height, q, parts);
         const auto [j0, j1] = gridRows(first, end);
         const auto offset = static_cast<size_t>(j0 * width), count = static_cast<size_t>((j1 - j0) * width);
-        ranks::broadcast(heightsM.data() + offset, count * sizeof(float), q);
+        if (codes) ranks::broadcast(metres.data() + offset, count * sizeof(int16_t), q);
+        else ranks::broadcast(heightsM.data() + offset, count * sizeof(float), q);
         if (!valid.empty()) ranks::broadcast(valid.data() + offset, count, q);
     }
-    dem.grid = makeGrid(path, width, height, reader.lattice.cellSizeXM, reader.lattice.cellSizeYM, std::move(heightsM),
-                        std::move(valid), reader.metresPerRaw);
+    // The raster closed before the grid is built: GDAL's buffers are not held beside the pyramid.
+    const double cellSizeXM = reader.lattice.cellSizeXM, cellSizeYM = reader.lattice.cellSizeYM;
+    const double metresPerRaw = reader.metresPerRaw;
+    opened.reset();
+    if (codes)
+        dem.grid = makeGrid(path, width, height, cellSizeXM, cellSizeYM, std::move(metres), 0, metresPerRaw,
+                            std::move(valid));
+    else
+        dem.grid = makeGrid(path, width, height, cellSizeXM, cellSizeYM, std::move(heightsM), std::move(valid),
+                            metresPerRaw);
     return dem;
 }
 

@@ -300,7 +300,9 @@ TEST_CASE("Storage: a grid made from codes holds what the float constructor hold
     for (const int bits : {8, 16}) {
         for (const double scale : {1.0, 0.1, 0.5, 2.0, 3.0, 0.3, 1e-7}) {
             for (const bool narrow : {false, true}) {
-                INFO(bits << "-bit samples, " << scale << " m per unit, " << (narrow ? "narrow" : "full") << " range");
+              for (const bool holes : {false, true}) {
+                INFO(bits << "-bit samples, " << scale << " m per unit, " << (narrow ? "narrow" : "full") << " range"
+                          << (holes ? ", with nodata" : ""));
                 const int32_t top = bits == 8 ? 255 : 65535;
                 std::uniform_int_distribution<int32_t> sample(narrow ? top / 3 : 0, narrow ? top / 3 + 200 : top);
                 std::vector<int32_t> raw(size_t(w * h));
@@ -313,10 +315,26 @@ TEST_CASE("Storage: a grid made from codes holds what the float constructor hold
                     heights[k] = float(double(raw[k]) * scale);
                     codes[k] = int16_t(raw[k] - offset);
                 }
+                // Nodata: about one vertex in twelve and a whole row; the float reference holds 0 m there (as the
+                // loader gives it), the codes anything, here the far end of the 16-bit range, which must widen
+                // neither the range nor the pyramid.
+                std::vector<uint8_t> valid;
+                if (holes) {
+                    valid.assign(raw.size(), 1);
+                    std::bernoulli_distribution hole(1.0 / 12.0);
+                    for (size_t k = 2; k < raw.size(); ++k)
+                        if (hole(rng) || k / size_t(w) == 40) {
+                            valid[k] = 0;
+                            heights[k] = 0.0f;
+                            codes[k] = int16_t(32767);
+                        }
+                }
                 // Without the scale as a hint, heights off whole metres stay float32.
                 const double hint = narrow ? 0.0 : scale;
-                const HeightGrid a(w, h, 10.0, 10.0, heights, {}, StoragePolicy::Auto, hint);
-                const HeightGrid b(w, h, 10.0, 10.0, codes, offset, scale, hint);
+                const HeightGrid a(w, h, 10.0, 10.0, heights, valid, StoragePolicy::Auto, hint);
+                const HeightGrid b(w, h, 10.0, 10.0, codes, offset, scale, hint, valid);
+                CHECK(b.nodataVertexCount() == a.nodataVertexCount());
+                CHECK((a.nodataVertexCount() > w) == holes);
                 storages.insert(int(a.storage()));
                 CHECK(b.storage() == a.storage());
                 CHECK(b.codeOffset() == a.codeOffset());
@@ -327,7 +345,9 @@ TEST_CASE("Storage: a grid made from codes holds what the float constructor hold
                 int64_t differ = 0;
                 for (int64_t j = 0; j < h; ++j)
                     for (int64_t i = 0; i < w; ++i)
-                        differ += std::bit_cast<uint32_t>(a.at(i, j)) != std::bit_cast<uint32_t>(b.at(i, j));
+                        differ += std::bit_cast<uint32_t>(a.at(i, j)) != std::bit_cast<uint32_t>(b.at(i, j)) ||
+                                  a.vertexValid(i, j) != b.vertexValid(i, j) ||
+                                  (i + 1 < w && j + 1 < h && a.cellValid(i, j) != b.cellValid(i, j));
                 REQUIRE(a.pyramidLevels() == b.pyramidLevels());
                 for (int k = 1; k <= a.pyramidLevels(); ++k)
                     for (int64_t bj = 0; bj < a.pyramidBlocksY(k); ++bj)
@@ -335,6 +355,7 @@ TEST_CASE("Storage: a grid made from codes holds what the float constructor hold
                             differ += a.blockMaxM(k, bi, bj) != b.blockMaxM(k, bi, bj) ||
                                       a.blockMinM(k, bi, bj) != b.blockMinM(k, bi, bj);
                 CHECK(differ == 0);
+              }
             }
         }
     }

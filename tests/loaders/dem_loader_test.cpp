@@ -13,6 +13,7 @@
 #include <ogr_spatialref.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -76,6 +77,7 @@ struct TiffSpec {
     std::string unit = "m";
     double scale = 1.0;
     double offset = 0.0;
+    std::vector<std::string> creationOptions;  // e.g. TILED=YES, BLOCKYSIZE=64
 };
 
 void writeTiff(const std::string& path, const TiffSpec& spec) {
@@ -83,7 +85,10 @@ void writeTiff(const std::string& path, const TiffSpec& spec) {
     GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GTiff");
     REQUIRE(driver != nullptr);
     const int bandCount = std::max<int>(1, static_cast<int>(spec.bands.size()));
-    GDALDatasetUniquePtr dataset(driver->Create(path.c_str(), spec.width, spec.height, bandCount, spec.type, nullptr));
+    CPLStringList options;
+    for (const auto& o : spec.creationOptions) options.AddString(o.c_str());
+    GDALDatasetUniquePtr dataset(
+        driver->Create(path.c_str(), spec.width, spec.height, bandCount, spec.type, options.List()));
     REQUIRE(dataset);
     if (spec.setGeoTransform) {
         double gt[6];
@@ -672,4 +677,97 @@ TEST_CASE("A PNG height map whose text chunk inflates to 256 MiB loads without i
     CHECK(dem.grid.width() == 1025);
     CHECK(dem.driver == "PNG (OpenImageIO)");
     CHECK(peakResidentBytes() - before < 64.0 * 1024 * 1024);
+}
+
+// The loader's direct path for 16-bit integer rasters in metres (codes read straight into the grid's int16
+// storage, band by band of whole storage blocks, without a float copy) against GDAL's own reading of every
+// sample, and against the float path's grid for the same heights (a Float32 copy of the raster): the same
+// heights, validity, storage and pyramid, bit for bit.
+TEST_CASE("16-bit DEMs load straight into codes: every vertex as GDAL reads it, and the float path's grid",
+          "[loaders]") {
+    TempDir dir("int16-codes");
+    // A tiled raster whose height is no multiple of its 64-row blocks (nor of the loader's bands), with nodata
+    // holes, negative heights and a row of nodata; and the int16 samples.
+    const std::string tiled = (dir.path() / "tiled.tif").string();
+    {
+        TiffSpec spec;
+        spec.width = 301;
+        spec.height = 2000;
+        spec.type = GDT_Int16;
+        spec.hasNodata = true;
+        spec.nodata = -9999;
+        spec.creationOptions = {"TILED=YES", "BLOCKXSIZE=64", "BLOCKYSIZE=64", "COMPRESS=DEFLATE"};
+        std::vector<double> values(size_t(spec.width) * spec.height);
+        uint32_t state = 7;
+        for (size_t k = 0; k < values.size(); ++k) {
+            state = state * 1664525u + 1013904223u;
+            const int64_t row = int64_t(k) / spec.width;
+            values[k] = (state >> 28) == 0 || row == 777 ? -9999.0 : double(int(state >> 17) % 3000 - 400);
+        }
+        spec.bands = {values};
+        writeTiff(tiled, spec);
+    }
+    for (const std::string& path : {tiled, kStHelens, kStormLake, kWhiteMountains, kNice}) {
+        INFO(path);
+        REQUIRE(DemWindowReader(path).wholeMetres());  // the direct path is the one taken
+        const HeightGrid grid = loadDem(path).grid;
+        // Every sample as GDAL reads it: grid row j is raster row height - 1 - j (these rasters run north to south).
+        GDALDatasetUniquePtr dataset(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+        REQUIRE(dataset);
+        GDALRasterBand* band = dataset->GetRasterBand(1);
+        const int W = dataset->GetRasterXSize(), H = dataset->GetRasterYSize();
+        std::vector<int32_t> raw(size_t(W) * H);
+        REQUIRE(band->RasterIO(GF_Read, 0, 0, W, H, raw.data(), W, H, GDT_Int32, 0, 0, nullptr) == CE_None);
+        int hasNodata = 0;
+        const double nodata = band->GetNoDataValue(&hasNodata);
+        REQUIRE(grid.width() == W);
+        REQUIRE(grid.height() == H);
+        int64_t wrong = 0, holes = 0;
+        for (int j = 0; j < H; ++j)
+            for (int i = 0; i < W; ++i) {
+                const int32_t value = raw[size_t(H - 1 - j) * W + i];
+                const bool valid = !(hasNodata && double(value) == nodata);
+                holes += valid ? 0 : 1;
+                wrong += grid.vertexValid(i, j) != valid || (valid && grid.at(i, j) != float(value));
+            }
+        CHECK(wrong == 0);
+        CHECK(grid.nodataVertexCount() == holes);
+        if (path == tiled) CHECK(holes > W);
+        // The float path's grid from a Float32 copy of the same samples.
+        const std::string copy = (dir.path() / "float.tif").string();
+        {
+            GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
+            GDALDatasetUniquePtr out(gtiff->Create(copy.c_str(), W, H, 1, GDT_Float32, nullptr));
+            double gt[6];
+            REQUIRE(dataset->GetGeoTransform(gt) == CE_None);
+            out->SetGeoTransform(gt);
+            out->SetSpatialRef(dataset->GetSpatialRef());
+            std::vector<float> values(raw.begin(), raw.end());
+            REQUIRE(out->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, W, H, values.data(), W, H, GDT_Float32, 0, 0,
+                                                    nullptr) == CE_None);
+            if (hasNodata) out->GetRasterBand(1)->SetNoDataValue(nodata);
+            if (band->GetUnitType() && *band->GetUnitType()) out->GetRasterBand(1)->SetUnitType(band->GetUnitType());
+        }
+        REQUIRE_FALSE(DemWindowReader(copy).wholeMetres());
+        const HeightGrid reference = loadDem(copy).grid;
+        CHECK(grid.storage() == reference.storage());
+        CHECK(grid.codeOffset() == reference.codeOffset());
+        CHECK(grid.codeScale() == reference.codeScale());
+        CHECK(grid.minHeightM() == reference.minHeightM());
+        CHECK(grid.maxHeightM() == reference.maxHeightM());
+        CHECK(grid.validCellCount() == reference.validCellCount());
+        CHECK(grid.memoryBytes() == reference.memoryBytes());
+        int64_t differ = 0;
+        for (int64_t j = 0; j < H; ++j)
+            for (int64_t i = 0; i < W; ++i)
+                differ += std::bit_cast<uint32_t>(grid.at(i, j)) != std::bit_cast<uint32_t>(reference.at(i, j));
+        REQUIRE(grid.pyramidLevels() == reference.pyramidLevels());
+        for (int k = 1; k <= grid.pyramidLevels(); ++k)
+            for (int64_t bj = 0; bj < grid.pyramidBlocksY(k); ++bj)
+                for (int64_t bi = 0; bi < grid.pyramidBlocksX(k); ++bi)
+                    differ += grid.blockMaxM(k, bi, bj) != reference.blockMaxM(k, bi, bj) ||
+                              grid.blockMinM(k, bi, bj) != reference.blockMinM(k, bi, bj);
+        CHECK(differ == 0);
+        fs::remove(copy);
+    }
 }
