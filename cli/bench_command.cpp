@@ -3,15 +3,33 @@
 
 #include "tracer/core/errors.h"
 #include "tracer/measure/bench_pipeline.h"
+#include "tracer/measure/whole_process.h"
 
 #include <fmt/core.h>
+#include <unistd.h>
+
+#include <filesystem>
 
 namespace terracast::cli {
+
+namespace {
+
+// --povray: empty for povray on PATH (or none there), "none" to skip, a name on PATH, or a path.
+std::string povrayExecutable(const std::string& given) {
+    if (given.empty()) return findOnPath("povray");
+    if (given == "none") return {};
+    const std::string found = given.find('/') == std::string::npos ? findOnPath(given) : given;
+    if (found.empty() || ::access(found.c_str(), X_OK) != 0 || !std::filesystem::is_regular_file(found))
+        throw InputError(fmt::format("--povray: expected an executable (a path, a name on PATH, or none), found '{}'", given));
+    return found;
+}
+
+}  // namespace
 
 void addBenchCommand(CLI::App& app, Commands& commands) {
     struct Texts {
         BenchRunOptions options;
-        std::string sizes = "513,2049,8193", methods;
+        std::string sizes = "513,2049,8193", methods, povray;
     };
     auto t = std::make_shared<Texts>();
     BenchRunOptions& bench = t->options;
@@ -38,6 +56,12 @@ void addBenchCommand(CLI::App& app, Commands& commands) {
     cmd->add_flag("--file-to-picture", bench.fileToPicture,
                   "Also time `render FILE.png --cell-size 30 --size 1024x768` with bilinear and with embree, "
                   "from the largest synthetic grid written as a 16-bit PNG height map");
+    cmd->add_option("--povray", t->povray,
+                    "With --file-to-picture: POV-Ray's executable, timed as a whole process beside `render` on the "
+                    "same height map (default: povray on PATH, if any; none: skip)");
+    cmd->add_option("--paired-runs", bench.pairedRuns,
+                    "With --file-to-picture: whole-process runs of each program, taking turns (default 3)")
+        ->check(CLI::Range(1, 100));
     cmd->add_flag("--large", bench.large, "Add a 32769 x 32769 synthetic grid (skipped when over --max-memory)");
     cmd->add_flag("--real", bench.real, "Add the GeoTIFF and .hgt DEMs of --data");
     cmd->add_option("--data", bench.dataDir, "Folder of the DEMs --real adds (default: the sample DEMs)");
@@ -50,6 +74,8 @@ void addBenchCommand(CLI::App& app, Commands& commands) {
                                 t->options.sizes = parseBenchSizes(t->sizes);
                                 if (t->options.dataDir.empty()) t->options.dataDir = TERRACAST_DATA_DIR;
                                 if (!t->methods.empty()) t->options.methods = parseBenchMethods(t->methods);
+                                t->options.terracastExecutable = selfExecutablePath();
+                                t->options.povray = povrayExecutable(t->povray);
                                 runBenchReport(t->options, ConsoleListener(false).listener());
                             });
                         }});

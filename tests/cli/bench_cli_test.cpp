@@ -3,6 +3,7 @@
 // skipped without being made, bad options are refused with one line and exit 2, --svg draws the rates that
 // the report gives, and --file-to-picture times `render` from a PNG height map with both tracers.
 #include "heightfield/traversal.h"
+#include "tracer/measure/whole_process.h"
 #include "support/json.h"
 #include "support/run_command.h"
 #include "support/temp_dir.h"
@@ -302,7 +303,7 @@ TEST_CASE("CLI: bench --file-to-picture renders a PNG height map with bilinear a
     CommandResult r;
     {
         const TmpDirOverride tmp(scratch.string());
-        r = runTerracast("bench --sizes 129 --threads 2 --repeat 1 --file-to-picture --json '" + json + "'");
+        r = runTerracast("bench --sizes 129 --threads 2 --repeat 1 --file-to-picture --paired-runs 1 --json '" + json + "'");
     }
     INFO(r.err);
     REQUIRE(r.exitCode == 0);
@@ -332,6 +333,10 @@ TEST_CASE("CLI: bench --file-to-picture renders a PNG height map with bilinear a
             INFO(key);
             CHECK(finitePositive(m[key]));
         }
+        // The pyramid is part of the load: the whole grid's for bilinear, Embree traces no pyramid but the grid
+        // builds one as it is loaded all the same.
+        CHECK(m["pyramid_s"].number > 0.0);
+        CHECK(m["pyramid_s"].number <= m["load_s"].number);
         // The phases add up to the whole (the report keeps six significant digits of each).
         const double phases = m["load_s"].number + m["build_s"].number + m["render_s"].number + m["write_s"].number;
         CHECK(m["total_s"].number == Approx(phases).epsilon(1e-4));
@@ -345,4 +350,44 @@ TEST_CASE("CLI: bench --file-to-picture renders a PNG height map with bilinear a
     REQUIRE(f["picture_mean_abs_diff"].isNumber());
     CHECK(f["picture_mean_abs_diff"].number >= 0.0);
     CHECK(f["picture_mean_abs_diff"].number < 3.0);
+
+    // Whole processes against POV-Ray, where it is installed (it is not needed to build or test terracast).
+    const JsonValue& w = f["whole_process"];
+    if (terracast::findOnPath("povray").empty()) {
+        CHECK_FALSE(w["ran"].boolean);
+        CHECK(w["why"].string.find("POV-Ray is not installed") != std::string::npos);
+        CHECK(r.out.find("whole processes against POV-Ray: not run") != std::string::npos);
+    } else {
+        REQUIRE(w["ran"].boolean);
+        CHECK(w["povray_version"].string.rfind("POV-Ray 3.", 0) == 0);
+        for (const char* program : {"terracast", "povray"}) {
+            INFO(program);
+            REQUIRE(w[program]["seconds"].array.size() == 1);
+            CHECK(finitePositive(w[program]["median_s"]));
+            CHECK(w[program]["best_s"].number == w[program]["median_s"].number);
+        }
+        CHECK(w["speedup_over_povray"].number ==
+              Approx(w["povray"]["median_s"].number / w["terracast"]["median_s"].number).epsilon(1e-4));
+        // POV-Ray's height_field, two triangles per cell, is the independent tessellation: the pixels whose
+        // camera rays meet it are those where terracast's triangles surface is met, but for grazing edges.
+        CHECK(w["silhouette_pixels"].number > 0.1 * 1024 * 768);
+        CHECK(w["silhouette_mismatches"].number >= 0);
+        CHECK(w["silhouette_mismatches"].number <= 1e-4 * w["silhouette_pixels"].number);
+    }
+    CHECK(std::filesystem::is_empty(scratch));
+}
+
+TEST_CASE("CLI: bench --povray takes a program, none, or refuses what is not one", "[cli][bench]") {
+    TempDir dir("bench-povray");
+    const std::string json = (dir.path() / "bench.json").string();
+    auto r = runTerracast("bench --sizes 65 --methods bilinear --repeat 1 --file-to-picture --povray '" +
+                          (dir.path() / "no-povray").string() + "' --json '" + json + "'");
+    CHECK(r.exitCode == 2);
+    CHECK(r.err.find("--povray: expected an executable") != std::string::npos);
+    CHECK(r.err.find("no-povray") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(json));
+    r = runTerracast("bench --sizes 65 --methods bilinear --repeat 1 --file-to-picture --povray none --json '" + json + "'");
+    REQUIRE(r.exitCode == 0);
+    const JsonValue doc = parseJson(slurp(json));
+    CHECK_FALSE(doc["file_to_picture"]["whole_process"]["ran"].boolean);
 }

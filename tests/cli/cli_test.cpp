@@ -34,6 +34,7 @@ double mebibytes(const std::string& text) {
 }
 const std::string kSamples = std::string(TERRACAST_SOURCE_DIR) + "/data-samples/";
 const std::string kStHelens = kSamples + "usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif";
+const std::string kWhiteMountains = kSamples + "N44W072.srtm3-white-mountains-nh.hgt";
 
 fs::path tempDir(const std::string& name) {
     const fs::path d = fs::temp_directory_path() / ("terracast-cli-" + name + "-" + std::to_string(::getpid()));
@@ -111,6 +112,62 @@ TEST_CASE("CLI: render writes a PNG of the requested size and a one-line summary
     int files = 0;
     for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++files;
     CHECK(files == 1);
+    fs::remove_all(dir);
+}
+
+TEST_CASE("CLI: render --verbose tells each phase's seconds and splits the render's thread time", "[cli]") {
+    const fs::path dir = tempDir("verbose");
+    const std::string out = (dir / "view.png").string();
+    struct Phases {
+        double read, pyramid, surface, trace, sky, camera, secondary, shading, write, total;
+    };
+    const auto run = [&](int skySamples) {
+        const auto r = runTerracast(fmt::format("render '{}' -o '{}' --size 160x120 --threads 2 --sky-samples {} --verbose",
+                                                kWhiteMountains, out, skySamples));
+        REQUIRE(r.exitCode == 0);
+        CHECK(lineCount(r.err) == 2);  // the summary and the phases
+        const std::vector<std::string> m = firstMatch(
+            r.err, "phases: read, decode and grid ([0-9.]+) s, pyramid ([0-9.]+) s, surface ([0-9.]+) s, trace and shade "
+                   "([0-9.]+) s \\(sky tables ([0-9.]+) s; the work tiles' thread time: camera rays ([0-9.]+) s [0-9]+ %, "
+                   "shadow and sky rays ([0-9.]+) s [0-9]+ %, shading ([0-9.]+) s [0-9]+ %\\), write ([0-9.]+) s; total "
+                   "([0-9.]+) s");
+        REQUIRE(m.size() == 11);
+        Phases p{};
+        double* fields[] = {&p.read,   &p.pyramid,   &p.surface, &p.trace, &p.sky,
+                            &p.camera, &p.secondary, &p.shading, &p.write, &p.total};
+        for (size_t k = 0; k < 10; ++k) *fields[k] = std::stod(m[k + 1]);
+        return p;
+    };
+    // Each twice, keeping the run whose secondary rays took least: a run's first rays can wait on the machine.
+    const auto best = [&](int skySamples) {
+        const Phases a = run(skySamples), b = run(skySamples);
+        return a.secondary <= b.secondary ? a : b;
+    };
+    const Phases few = best(0), many = best(16);
+    for (const Phases& p : {few, many}) {
+        // The phases follow one another within the whole (the rest: checks and setting the view).
+        const double sum = p.read + p.pyramid + p.surface + p.trace + p.write;
+        CHECK(sum <= p.total + 0.002);
+        CHECK(sum >= 0.8 * p.total - 0.002);
+        CHECK(p.pyramid > 0.0);
+        // Two threads' time over the work tiles (the render less the sky's tables): at most twice their seconds,
+        // and more than half of them.
+        const double threadTime = p.camera + p.secondary + p.shading;
+        CHECK(p.sky < p.trace);
+        CHECK(threadTime <= 2.0 * (p.trace - p.sky) + 0.002);
+        CHECK(threadTime >= 0.5 * (p.trace - p.sky));
+        CHECK(p.camera > 0.0);
+        CHECK(p.shading > 0.0);
+    }
+    // Sixteen sky-visibility rays per hit beside the one shadow ray: the secondary rays' share grows, and their
+    // time several times over.
+    CHECK(many.secondary > 4.0 * few.secondary);
+    CHECK(many.secondary / (many.camera + many.secondary + many.shading) >
+          few.secondary / (few.camera + few.secondary + few.shading));
+    // Without --verbose, the summary alone.
+    const auto quietRun = runTerracast("render '" + kStHelens + "' -o '" + out + "' --size 64x48 --threads 2");
+    CHECK(lineCount(quietRun.err) == 1);
+    CHECK(quietRun.err.find("phases:") == std::string::npos);
     fs::remove_all(dir);
 }
 

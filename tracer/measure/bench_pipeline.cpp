@@ -7,8 +7,11 @@
 #include "tracer/core/errors.h"
 #include "tracer/core/resources.h"
 #include "tracer/core/text.h"
+#include "tracer/measure/povray_scene.h"
 #include "tracer/measure/reports.h"
+#include "tracer/measure/whole_process.h"
 #include "tracer/terrain/memory_model.h"
+#include "tracer/terrain/surface.h"
 
 #include <fmt/format.h>
 
@@ -19,6 +22,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <thread>
 
 namespace terracast {
@@ -75,14 +79,154 @@ private:
     std::filesystem::path path_;
 };
 
+WholeProcessRuns summarizeRuns(const std::vector<ProcessRun>& runs) {
+    WholeProcessRuns w;
+    for (const auto& r : runs) {
+        w.seconds.push_back(r.seconds);
+        w.peakBytes = std::isnan(r.peakBytes) || std::isnan(w.peakBytes) ? r.peakBytes + w.peakBytes
+                                                                         : std::max(w.peakBytes, r.peakBytes);
+    }
+    std::vector<double> sorted = w.seconds;
+    std::sort(sorted.begin(), sorted.end());
+    w.bestSeconds = sorted.front();
+    w.medianSeconds = sorted.size() % 2 ? sorted[sorted.size() / 2]
+                                        : 0.5 * (sorted[sorted.size() / 2 - 1] + sorted[sorted.size() / 2]);
+    return w;
+}
+
+// The last non-empty line of a child's log, to say why it failed.
+std::string lastLogLine(const std::string& path) {
+    std::ifstream in(path);
+    std::string line, last;
+    while (std::getline(in, line))
+        if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
+    return last;
+}
+
+ProcessRun runChecked(const std::vector<std::string>& argv, const std::filesystem::path& folder, const std::string& what) {
+    const std::string log = (folder / "children.log").string();
+    std::filesystem::remove(log);
+    const ProcessRun run = runTimedProcess(argv, folder.string(), log);
+    if (run.exitCode != 0)
+        throw std::runtime_error(fmt::format("bench --file-to-picture: {} exited with status {}: {}", what, run.exitCode,
+                                             lastLogLine(log)));
+    return run;
+}
+
+// `render` and POV-Ray as whole processes on the same height map (see WholeProcessComparison), then each one's
+// silhouette: terracast's `triangles` surface traced here through render's camera against POV-Ray's picture of
+// the terrain alone.
+WholeProcessComparison compareWholeProcesses(const FileToPictureOptions& o, const DemRenderOptions& render,
+                                             const std::string& heightMap, const std::filesystem::path& folder,
+                                             const std::function<void(const std::string&)>& onStep,
+                                             const std::function<void(const std::string&)>& onWarning) {
+    WholeProcessComparison c;
+    if (o.terracastExecutable.empty()) {
+        c.skippedWhy = "no terracast executable to run";
+        return c;
+    }
+    if (o.povray.empty()) {
+        c.skippedWhy = "POV-Ray is not installed (Debian's povray package)";
+        return c;
+    }
+    // The grid as `render` loads it (the PNG's whole metres): its camera, extents and memory.
+    DemSource source;
+    source.path = heightMap;
+    source.imageCellSizeM = render.dem.imageCellSizeM;
+    source.maxMemoryBytes = o.maxMemoryBytes;
+    RunListener quiet;
+    quiet.warning = onWarning;
+    const LoadedDem dem = loadDemSource(source, quiet);
+    const HeightGrid& grid = dem.grid;
+    const int W = render.width, H = render.height;
+    const double aspect = double(W) / double(H);
+    const PinholeCamera camera = autoCamera(grid, aspect);
+
+    PovrayHeightFieldView view;
+    view.heightMap = std::filesystem::path(heightMap).filename().string();
+    view.extentXM = grid.extentXM();
+    view.extentYM = grid.extentYM();
+    view.camera = camera;
+    view.aspect = aspect;
+    view.sunAzimuthDeg = render.sunAzimuthDeg;
+    view.sunElevationDeg = render.sunElevationDeg;
+    writeTextFile((folder / "terrain.pov").string(), povrayHeightFieldScene(view));
+    view.silhouette = true;
+    writeTextFile((folder / "silhouette.pov").string(), povrayHeightFieldScene(view));
+
+    {
+        const std::string log = (folder / "version.log").string();
+        runTimedProcess({o.povray, "--version"}, folder.string(), log);
+        std::ifstream in(log);
+        std::string line;
+        while (std::getline(in, line))
+            if (line.rfind("POV-Ray", 0) == 0) {
+                c.povrayVersion = line;
+                break;
+            }
+    }
+    const std::string size = fmt::format("{}x{}", W, H);
+    const std::vector<std::string> terracastArgs{
+        o.terracastExecutable, "render", heightMap, "--cell-size", fmt::format("{:g}", render.dem.imageCellSizeM),
+        "--size", size, "--threads", std::to_string(o.threads), "--sky-samples", "0", "--no-base", "--background",
+        "ground", "--quiet", "-o", (folder / "whole-terracast.png").string()};
+    const std::vector<std::string> povrayArgs{
+        o.povray, "+Iterrain.pov", "+Owhole-povray.png", "+FN", fmt::format("+W{}", W), fmt::format("+H{}", H),
+        "-D", "-P", "-A", fmt::format("+WT{}", o.threads)};
+    std::vector<ProcessRun> ours, theirs;
+    const int pairs = std::max(1, o.pairedRuns);
+    for (int k = 0; k < pairs; ++k) {
+        // Alternating which goes first, so that neither always finds the other's files in the page cache.
+        for (int side = 0; side < 2; ++side) {
+            const bool terracastNow = (side == 0) == (k % 2 == 0);
+            if (onStep)
+                onStep(fmt::format("whole process, pair {} of {}: {}", k + 1, pairs, terracastNow ? "terracast render" : "POV-Ray"));
+            if (terracastNow) ours.push_back(runChecked(terracastArgs, folder, "terracast render"));
+            else theirs.push_back(runChecked(povrayArgs, folder, "POV-Ray"));
+        }
+    }
+    c.terracast = summarizeRuns(ours);
+    c.povray = summarizeRuns(theirs);
+    c.speedup = c.povray.medianSeconds / c.terracast.medianSeconds;
+    c.gridBytes = double(grid.memoryBytes());
+    c.pictureBytes = double(W) * double(H) * kFilmBytesPerPixel;
+    c.peakOverGridAndPicture = c.terracast.peakBytes / (c.gridBytes + c.pictureBytes);
+
+    // Silhouettes: which pixels' camera rays meet the terrain, by each.
+    if (onStep) onStep("silhouettes: POV-Ray's and the triangles surface's");
+    runChecked({o.povray, "+Isilhouette.pov", "+Osilhouette.png", "+FN", fmt::format("+W{}", W), fmt::format("+H{}", H),
+                "-D", "-P", "-A", fmt::format("+WT{}", o.threads)},
+               folder, "POV-Ray");
+    const RgbImage theirsMask = readImage((folder / "silhouette.png").string());
+    if (theirsMask.width != W || theirsMask.height != H)
+        throw std::runtime_error(fmt::format("bench --file-to-picture: POV-Ray's silhouette is {}x{}, not {}", theirsMask.width,
+                                             theirsMask.height, size));
+    const TerrainSurface triangles(grid, SurfaceMethod::Triangles, o.threads);
+    c.silhouettePixels = 0;
+    c.silhouetteMismatches = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const Ray ray = camera.generate((x + 0.5) / W, (y + 0.5) / H, aspect);
+            const bool ourHit = triangles.intersect(ray, Interval{}).has_value();
+            const bool theirHit = theirsMask.at(x, y, 0) > 0.5f;
+            c.silhouettePixels += (ourHit || theirHit) ? 1 : 0;
+            c.silhouetteMismatches += ourHit != theirHit ? 1 : 0;
+        }
+    c.ran = true;
+    return c;
+}
+
 }  // namespace
 
 // Makes the fractal grid of `size`, writes it as a 16-bit PNG height map into a scratch folder, then runs
 // `render` on it as a user would (--cell-size 30 --size 1024x768 --threads N) with bilinear and with embree,
 // each picture written into the same folder; reads both pictures back to compare them, then removes the folder.
-FileToPictureResult fileToPicture(int64_t size, uint64_t seed, int threads, double maxMemoryBytes, double limit,
+FileToPictureResult fileToPicture(const FileToPictureOptions& o,
                                   const std::function<void(const std::string&)>& onStep,
                                   const std::function<void(const std::string&)>& onWarning) {
+    const int64_t size = o.size;
+    const int threads = o.threads;
+    const double limit = o.limit;
     using Clock = std::chrono::steady_clock;
     const auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
     FileToPictureResult out;
@@ -90,7 +234,7 @@ FileToPictureResult fileToPicture(int64_t size, uint64_t seed, int threads, doub
     out.size = size;
     out.threads = threads;
     out.render.dem.imageCellSizeM = 30.0;
-    out.render.dem.maxMemoryBytes = maxMemoryBytes;
+    out.render.dem.maxMemoryBytes = o.maxMemoryBytes;
     out.render.width = 1024;
     out.render.height = 768;
     out.render.threads = threads;
@@ -98,6 +242,8 @@ FileToPictureResult fileToPicture(int64_t size, uint64_t seed, int threads, doub
     // the horizon too (the measured work is the terrain's rays; the base's walls would change the silhouette).
     out.render.solidBase = false;
     out.render.backdrop = Backdrop::Ground;
+    // Camera rays and one shadow ray per hit, as POV-Ray traces them: no sky-visibility rays.
+    out.render.skySamples = 0;
     const BenchMethod methods[] = {BenchMethod::Bilinear, BenchMethod::Embree};
     for (BenchMethod m : methods) {
         FileToPictureRun run;
@@ -120,7 +266,7 @@ FileToPictureResult fileToPicture(int64_t size, uint64_t seed, int threads, doub
         const auto made = Clock::now();
         FractalTerrainOptions fo;
         fo.size = size;
-        fo.seed = seed;
+        fo.seed = o.seed;
         const HeightGrid grid = fractalTerrain(fo);
         out.makeSeconds = since(made);
         // What render will hold: the grid as loaded (as big as this one), the loader's 16-bit samples, the
@@ -170,6 +316,8 @@ FileToPictureResult fileToPicture(int64_t size, uint64_t seed, int threads, doub
             out.pictureMeanAbsDiff = sum / double(a.rgb.size());
         }
     }
+    pictures.clear();
+    out.wholeProcess = compareWholeProcesses(o, out.render, heightMap, scratch.path(), onStep, onWarning);
     return out;
 }
 
@@ -285,7 +433,16 @@ void runBenchReport(const BenchRunOptions& o, const RunListener& listener) {
             onStep = [&](const std::string& step) {
                 listener.at(fmt::format("bench: file to picture, synthetic-{}: {}", largest, step));
             };
-        const FileToPictureResult f = fileToPicture(largest, o.seed, most, o.maxMemoryBytes, limit, onStep, listener.warning);
+        FileToPictureOptions fo;
+        fo.size = largest;
+        fo.seed = o.seed;
+        fo.threads = most;
+        fo.maxMemoryBytes = o.maxMemoryBytes;
+        fo.limit = limit;
+        fo.terracastExecutable = o.terracastExecutable;
+        fo.povray = o.povray;
+        fo.pairedRuns = o.pairedRuns;
+        const FileToPictureResult f = fileToPicture(fo, onStep, listener.warning);
         listener.at("");
         listener.print(fileToPictureTable(f, limit));
         json += fileToPictureJson(f);

@@ -29,6 +29,11 @@ struct BenchRunOptions {
     std::string svg;                      // chart of camera rays/s against grid size; empty = none
     bool fileToPicture = false;           // also time `render` from a 16-bit PNG of the largest synthetic grid
     std::vector<BenchMethod> methods;     // the methods to measure, in report order; empty = all
+    // With fileToPicture, whole processes: this terracast executable's `render` (empty = none) and POV-Ray
+    // (a path, or empty when it is not installed), each run `pairedRuns` times, one after the other.
+    std::string terracastExecutable;
+    std::string povray;
+    int pairedRuns = 3;
 };
 
 // Runs the whole bench. Throws InputError for bad options, Cancelled when interrupted.
@@ -53,6 +58,29 @@ struct FileToPictureRun {
     int pictureHeight = 0;
 };
 
+// One program of the whole-process comparison, over its paired runs.
+struct WholeProcessRuns {
+    std::vector<double> seconds;  // each run's wall time, from the spawn to the exit
+    double medianSeconds = 0.0;
+    double bestSeconds = 0.0;
+    double peakBytes = 0.0;       // the largest of the runs' peak resident memory
+};
+
+// `render FILE.png` and POV-Ray 3.7 on the same height map, camera, picture size and sun, as whole processes.
+struct WholeProcessComparison {
+    bool ran = false;
+    std::string skippedWhy;             // when not run: "POV-Ray is not installed", ...
+    std::string povrayVersion;          // its banner's first line
+    WholeProcessRuns terracast;         // `render --method bilinear --sky-samples 0`
+    WholeProcessRuns povray;            // height_field, smooth, one parallel light with shadows
+    double speedup = std::numeric_limits<double>::quiet_NaN();  // POV-Ray's median time / terracast's
+    double gridBytes = 0.0;             // the grid `render` holds, and its picture (film and 8-bit copy)
+    double pictureBytes = 0.0;
+    double peakOverGridAndPicture = std::numeric_limits<double>::quiet_NaN();  // terracast's peak over the two
+    int64_t silhouettePixels = 0;       // pixels where terracast's `triangles` or POV-Ray meet the terrain
+    int64_t silhouetteMismatches = -1;  // pixels where only one of the two does; -1 = not compared
+};
+
 struct FileToPictureResult {
     std::string name;                  // "synthetic-8193"
     int64_t size = 0;                  // vertices per side
@@ -66,12 +94,25 @@ struct FileToPictureResult {
     std::vector<FileToPictureRun> runs;
     double totalRatio = std::numeric_limits<double>::quiet_NaN();          // total(embree) / total(bilinear)
     double pictureMeanAbsDiff = std::numeric_limits<double>::quiet_NaN();  // 8-bit levels, over all channels
+    WholeProcessComparison wholeProcess;
+};
+
+// What the file-to-picture run makes and measures.
+struct FileToPictureOptions {
+    int64_t size = 8193;             // vertices per side of the synthetic grid
+    uint64_t seed = 1;
+    int threads = 2;
+    double maxMemoryBytes = 0.0;     // as --max-memory, passed to each render
+    double limit = 0.0;              // the resolved limit in bytes
+    std::string terracastExecutable; // whole-process runs of `render`; empty = none
+    std::string povray;              // POV-Ray's executable; empty = not installed
+    int pairedRuns = 3;
 };
 
 
 // The file-to-picture run for the synthetic grid of `size`: see runBenchReport. `onStep` hears the steps,
 // `onWarning` the loader's warnings about the height map.
-FileToPictureResult fileToPicture(int64_t size, uint64_t seed, int threads, double maxMemoryBytes, double limit,
+FileToPictureResult fileToPicture(const FileToPictureOptions& options,
                                   const std::function<void(const std::string&)>& onStep,
                                   const std::function<void(const std::string&)>& onWarning = {});
 

@@ -116,15 +116,31 @@ std::string fileToPictureJson(const FileToPictureResult& f) {
             j += skippedMethodJson(r.method, r.neededBytes);
             continue;
         }
-        j += fmt::format("{{\"name\": \"{}\", \"skipped\": false, \"load_s\": {}, \"build_s\": {}, \"render_s\": {}, "
-                         "\"write_s\": {}, \"total_s\": {}, \"picture_bytes\": {}, \"picture_width\": {}, "
+        j += fmt::format("{{\"name\": \"{}\", \"skipped\": false, \"load_s\": {}, \"pyramid_s\": {}, \"build_s\": {}, "
+                         "\"render_s\": {}, \"write_s\": {}, \"total_s\": {}, \"picture_bytes\": {}, \"picture_width\": {}, "
                          "\"picture_height\": {}}}",
-                         benchMethodName(r.method), jsonNumber(r.seconds.load), jsonNumber(r.seconds.build),
+                         benchMethodName(r.method), jsonNumber(r.seconds.load), jsonNumber(r.seconds.pyramid),
+                         jsonNumber(r.seconds.build),
                          jsonNumber(r.seconds.render), jsonNumber(r.seconds.write), jsonNumber(r.seconds.total),
                          r.pictureBytes, r.pictureWidth, r.pictureHeight);
     }
-    return j + fmt::format("],\n  \"total_ratio_embree_to_bilinear\": {}, \"picture_mean_abs_diff\": {}}}",
-                           jsonNumber(f.totalRatio), jsonNumber(f.pictureMeanAbsDiff));
+    j += fmt::format("],\n  \"total_ratio_embree_to_bilinear\": {}, \"picture_mean_abs_diff\": {},\n  \"whole_process\": ",
+                     jsonNumber(f.totalRatio), jsonNumber(f.pictureMeanAbsDiff));
+    const WholeProcessComparison& w = f.wholeProcess;
+    if (!w.ran) return j + fmt::format("{{\"ran\": false, \"why\": {}}}}}", jsonString(w.skippedWhy));
+    const auto runs = [](const WholeProcessRuns& r) {
+        std::string list;
+        for (size_t k = 0; k < r.seconds.size(); ++k) list += (k ? ", " : "") + jsonNumber(r.seconds[k]);
+        return fmt::format("{{\"seconds\": [{}], \"median_s\": {}, \"best_s\": {}, \"peak_memory_bytes\": {}}}", list,
+                           jsonNumber(r.medianSeconds), jsonNumber(r.bestSeconds), jsonNumber(r.peakBytes));
+    };
+    return j + fmt::format("{{\"ran\": true, \"povray_version\": {}, \"terracast\": {}, \"povray\": {}, "
+                           "\"speedup_over_povray\": {}, \"grid_bytes\": {}, \"picture_bytes\": {}, "
+                           "\"peak_over_grid_and_picture\": {}, \"silhouette_pixels\": {}, "
+                           "\"silhouette_mismatches\": {}}}}}",
+                           jsonString(w.povrayVersion), runs(w.terracast), runs(w.povray), jsonNumber(w.speedup),
+                           jsonNumber(w.gridBytes), jsonNumber(w.pictureBytes), jsonNumber(w.peakOverGridAndPicture),
+                           w.silhouettePixels, w.silhouetteMismatches);
 }
 
 std::string fileToPictureTable(const FileToPictureResult& f, double limit) {
@@ -142,19 +158,43 @@ std::string fileToPictureTable(const FileToPictureResult& f, double limit) {
                f.name, f.makeSeconds, humanBytes(double(f.heightMapBytes)), f.heightMapSeconds, r.dem.imageCellSizeM,
                r.width, r.height, f.threads, r.sunAzimuthDeg, r.sunElevationDeg, skyKindName(r.sky),
                r.skySamples < 0 ? 4 : r.skySamples);
-    out += fmt::format("{:<14} {:>8} {:>8} {:>8} {:>8} {:>8}\n", "method", "load s", "build s", "render s", "write s", "total s");
+    out += fmt::format("{:<14} {:>8} {:>10} {:>8} {:>8} {:>8} {:>8}\n", "method", "load s", "(pyramid)", "build s",
+                       "render s", "write s", "total s");
     for (const auto& run : f.runs) {
         if (run.skipped) {
             out += fmt::format("{:<14} skipped: needs about {}, more than the {} limit (--max-memory)\n",
                        benchMethodName(run.method), humanBytes(run.neededBytes), humanBytes(limit));
             continue;
         }
-        out += fmt::format("{:<14} {:>8.3f} {:>8.3f} {:>8.3f} {:>8.3f} {:>8.3f}\n", benchMethodName(run.method),
-                   run.seconds.load, run.seconds.build, run.seconds.render, run.seconds.write, run.seconds.total);
+        out += fmt::format("{:<14} {:>8.3f} {:>10.3f} {:>8.3f} {:>8.3f} {:>8.3f} {:>8.3f}\n", benchMethodName(run.method),
+                   run.seconds.load, run.seconds.pyramid, run.seconds.build, run.seconds.render, run.seconds.write,
+                   run.seconds.total);
     }
     if (std::isfinite(f.totalRatio))
         out += fmt::format("total embree / bilinear: {:.2f}; the two pictures differ by {:.2f} of 255 on average (8-bit sRGB)\n",
                    f.totalRatio, f.pictureMeanAbsDiff);
+    const WholeProcessComparison& w = f.wholeProcess;
+    if (!w.ran) return out + fmt::format("whole processes against POV-Ray: not run: {}\n", w.skippedWhy);
+    const auto seconds = [](const WholeProcessRuns& r) {
+        std::string list;
+        for (size_t k = 0; k < r.seconds.size(); ++k) list += fmt::format("{}{:.2f}", k ? ", " : "", r.seconds[k]);
+        return list;
+    };
+    out += fmt::format("whole processes, {} paired runs taking turns first (the same PNG, camera, {}x{} picture, sun, and "
+                       "one shadow ray per hit; terracast `render --method bilinear --sky-samples 0 --no-base`, {} "
+                       "`height_field {{ png smooth }}`):\n",
+                       w.terracast.seconds.size(), r.width, r.height, w.povrayVersion.empty() ? "POV-Ray" : w.povrayVersion);
+    out += fmt::format("{:<10} {:>10} {:>10} {:>12}   runs (s)\n", "program", "median s", "best s", "peak memory");
+    // The peak comes from GNU time; without it, unknown.
+    const auto peak = [](double bytes) { return std::isnan(bytes) ? std::string("unknown") : humanBytes(bytes); };
+    out += fmt::format("{:<10} {:>10.3f} {:>10.3f} {:>12}   {}\n", "terracast", w.terracast.medianSeconds,
+                       w.terracast.bestSeconds, peak(w.terracast.peakBytes), seconds(w.terracast));
+    out += fmt::format("{:<10} {:>10.3f} {:>10.3f} {:>12}   {}\n", "POV-Ray", w.povray.medianSeconds, w.povray.bestSeconds,
+                       peak(w.povray.peakBytes), seconds(w.povray));
+    out += fmt::format("terracast is {:.2f} times sooner (medians); its peak is {:.2f} times the grid ({}) plus the picture "
+                       "({}); silhouettes of `triangles` and POV-Ray differ at {} of {} pixels on the terrain\n",
+                       w.speedup, w.peakOverGridAndPicture, humanBytes(w.gridBytes), humanBytes(w.pictureBytes),
+                       w.silhouetteMismatches, w.silhouettePixels);
     return out;
 }
 

@@ -324,6 +324,18 @@ TerrainRenderSettings perspectiveSettings(const DemRenderOptions& o, const Loade
     return s;
 }
 
+std::string renderPhasesLine(const RenderPhaseSeconds& p) {
+    const double threadSeconds = p.cameraRayThreadSeconds + p.secondaryRayThreadSeconds + p.shadingThreadSeconds;
+    const auto share = [&](double part) { return threadSeconds > 0.0 ? 100.0 * part / threadSeconds : 0.0; };
+    return fmt::format("phases: read, decode and grid {:.4f} s, pyramid {:.4f} s, surface {:.4f} s, trace and shade "
+                       "{:.4f} s (sky tables {:.4f} s; the work tiles' thread time: camera rays {:.4f} s {:.0f} %, shadow "
+                       "and sky rays {:.4f} s {:.0f} %, shading {:.4f} s {:.0f} %), write {:.4f} s; total {:.4f} s",
+                       p.load - p.pyramid, p.pyramid, p.build, p.render, p.skySetup, p.cameraRayThreadSeconds,
+                       share(p.cameraRayThreadSeconds), p.secondaryRayThreadSeconds,
+                       share(p.secondaryRayThreadSeconds), p.shadingThreadSeconds, share(p.shadingThreadSeconds),
+                       p.write, p.total);
+}
+
 namespace {
 
 // `render` without --view map.
@@ -355,6 +367,7 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     const TerrainSurface surface(grid, o.method, o.threads);
     const auto built = Clock::now();
     RenderStats stats;
+    s.timePhases = o.verbose;
     Film film = renderTerrain(grid, surface, s, &stats);
     const auto rendered = Clock::now();
     // In a launch of several ranks the leader holds the whole picture (renderTerrain) and writes it.
@@ -369,6 +382,11 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     phases.render = seconds(built, rendered);
     phases.write = seconds(rendered, written);
     phases.total = seconds(start, written);
+    phases.pyramid = grid.tiled() ? 0.0 : grid.pyramidBuildSeconds();
+    phases.skySetup = stats.setupSeconds;
+    phases.cameraRayThreadSeconds = stats.cameraRaySeconds;
+    phases.secondaryRayThreadSeconds = stats.secondaryRaySeconds;
+    phases.shadingThreadSeconds = stats.shadingSeconds;
     const int64_t rays = stats.primaryRays + stats.shadowRays + stats.skyVisibilityRays;
     const std::string tiles = tileTraffic(grid);
     std::string view;
@@ -384,6 +402,7 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
                               stats.seconds, stats.primaryRays, stats.shadowRays, stats.skyVisibilityRays,
                               stats.seconds > 0 ? double(rays) / stats.seconds * 1e-6 : 0.0,
                               humanBytes(peakResidentBytes()), tiles.empty() ? "" : "; " + tiles));
+    if (o.verbose) listener.tell(renderPhasesLine(phases));
     return phases;
 }
 

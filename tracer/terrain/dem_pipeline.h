@@ -94,6 +94,7 @@ struct DemRenderOptions {
     bool solidBase = true;
     Backdrop backdrop = Backdrop::Neutral;
     double hillshadeBlend = 0.0;               // map view: weight of a plain hillshade, 0..1
+    bool verbose = false;                      // perspective: time the phases and tell them (render --verbose)
 };
 
 // The perspective view of a loaded DEM as `render` makes it (options checked, sun time, camera, look, sampling);
@@ -119,15 +120,25 @@ std::vector<uint8_t> mapViewPixels(const MapImage& image);
 // Wall-clock seconds of the phases of one perspective render.
 struct RenderPhaseSeconds {
     double load = 0.0;    // reading the DEM (and, for the direct tracer, making its pyramid) and setting the view
+    double pyramid = 0.0; // of `load`: the whole grid's pyramid (0 for a DEM held as tiles)
     double build = 0.0;   // the surface: nothing more for the direct tracer, Embree's buffers and BVH
     double render = 0.0;  // tracing and shading the picture
     double write = 0.0;   // encoding and writing the picture
     double total = 0.0;   // from the first check of the options to the picture on disk
+    // With DemRenderOptions::verbose, the render's thread-seconds (RenderStats): camera rays, shadow and
+    // sky-visibility rays, and shading; 0 otherwise.
+    double skySetup = 0.0;  // of `render`: the shader's set-up (the sky's tables), before any ray
+    double cameraRayThreadSeconds = 0.0;
+    double secondaryRayThreadSeconds = 0.0;
+    double shadingThreadSeconds = 0.0;
 };
 
 // `render`: checks, loads, builds, renders and writes; the summary line goes to the listener's note. Throws
 // InputError for bad input, Cancelled when interrupted. Returns the phases of a perspective render (all zero
 // for the map view).
 RenderPhaseSeconds renderDem(const DemRenderOptions& options, const RunListener& listener);
+
+// The line `render --verbose` tells: each phase's seconds, and the render's thread time split three ways.
+std::string renderPhasesLine(const RenderPhaseSeconds& phases);
 
 }  // namespace terracast

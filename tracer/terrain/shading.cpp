@@ -8,6 +8,7 @@
 #include "tracer/terrain/solid_base.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <utility>
 
@@ -107,6 +108,27 @@ glm::vec3 TerrainShader::miss(const glm::dvec3& dir) const {
     return glm::vec3(0.0f);
 }
 
+namespace {
+
+thread_local int64_t secondaryRayNanoseconds = 0;
+
+}  // namespace
+
+double TerrainShader::takeSecondaryRaySeconds() {
+    const double seconds = double(secondaryRayNanoseconds) * 1e-9;
+    secondaryRayNanoseconds = 0;
+    return seconds;
+}
+
+bool TerrainShader::occluded(const Ray& ray) const {
+    if (!timeRays_) return surface_.occluded(ray, {0.0, kInfinity});
+    const auto start = std::chrono::steady_clock::now();
+    const bool blocked = surface_.occluded(ray, {0.0, kInfinity});
+    secondaryRayNanoseconds += std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                   std::chrono::steady_clock::now() - start).count();
+    return blocked;
+}
+
 std::optional<glm::vec3> TerrainShader::base(const Ray& ray, double tMax, int64_t& shadowRays) const {
     if (!look_.solidBase) return std::nullopt;
     const auto wall = intersectSolidBase(grid_, floorM_, ray, tMax);
@@ -117,8 +139,7 @@ std::optional<glm::vec3> TerrainShader::base(const Ray& ray, double tMax, int64_
     if (cosSun > 0.0 && toSun_.z > -1.0) {
         ++shadowRays;
         const Ray toward{wall->point + wall->normal * (1e-6 * (1.0 + glm::length(wall->point))), toSun_};
-        if (!surface_.occluded(toward, {0.0, kInfinity}))
-            light += sky_.sunlight(sunIrradiance_, toSun_, wall->point.z) * float(cosSun);
+        if (!occluded(toward)) light += sky_.sunlight(sunIrradiance_, toSun_, wall->point.z) * float(cosSun);
     }
     return sky_.throughAir(kSolidBaseAlbedo * light, ray.dir, wall->t);
 }
@@ -149,7 +170,7 @@ glm::vec3 TerrainShader::hit(const HeightFieldHit& hit, const Ray& ray, int px, 
     glm::vec3 light{0.0f};
     if (const auto shadowRay = sunShadowRay(hit, ray.dir, sun_)) {
         ++shadowRays;
-        if (!surface_.occluded(*shadowRay, {0.0, kInfinity}))
+        if (!occluded(*shadowRay))
             light += sky_.sunlight(sunIrradiance_, toSun_, hit.pointM.z) * float(std::max(0.0, glm::dot(n, toSun_)));
     }
     light += skyLight(hit, n, px, py, sample, skyRays);
@@ -166,7 +187,7 @@ glm::vec3 TerrainShader::skyLight(const HeightFieldHit& hit, const glm::dvec3& n
     if (count <= 0) return open;
     skyRays += count;
     return open * openSkyFraction(n, count, RandomStream(seed_, px, py, uint64_t(sample)).uniform2(0), [&](const glm::dvec3& dir) {
-               return surface_.occluded(Ray{spawnOrigin(hit, dir), dir}, {0.0, kInfinity});
+               return occluded(Ray{spawnOrigin(hit, dir), dir});
            });
 }
 

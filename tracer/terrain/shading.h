@@ -84,7 +84,15 @@ public:
     glm::vec3 hit(const HeightFieldHit& hit, const Ray& ray, int px, int py, int64_t& shadowRays, int64_t& skyRays,
                   int sample = 0) const;
 
+    // With `on`, the shadow and sky-visibility rays' time is added up per thread (render --verbose); off by
+    // default, when it costs nothing.
+    void timeSecondaryRays(bool on) { timeRays_ = on; }
+    // The seconds this thread spent tracing secondary rays since its last call (0 unless timed).
+    static double takeSecondaryRaySeconds();
+
 private:
+    bool occluded(const Ray& ray) const;
+
     glm::vec3 albedo(const HeightFieldHit& hit) const;
     glm::vec3 skyLight(const HeightFieldHit& hit, const glm::dvec3& n, int px, int py, int sample,
                        int64_t& skyRays) const;
@@ -95,6 +103,7 @@ private:
     int skySamples_;
     uint64_t seed_;
     bool smoothNormals_;
+    bool timeRays_ = false;
     glm::dvec3 toSun_;
     glm::vec3 sunIrradiance_;
     Sky sky_;

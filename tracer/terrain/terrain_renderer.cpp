@@ -19,9 +19,17 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
                    RenderStats* stats) {
     const auto start = std::chrono::steady_clock::now();
     Film film(s.width, s.height);
-    const TerrainShader shader(grid, surface, s.sun, s.sky, s.camera.eyeM.z, s.seed, s.smoothNormals, s.look);
+    TerrainShader shader(grid, surface, s.sun, s.sky, s.camera.eyeM.z, s.seed, s.smoothNormals, s.look);
+    shader.timeSecondaryRays(s.timePhases);
+    const double setupSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     std::atomic<int64_t> primary{0}, shadow{0}, sky{0}, hits{0}, pixelsDone{0};
+    // Thread-nanoseconds of the work tiles, of shading (secondary rays included) and of the secondary rays.
+    std::atomic<int64_t> tileNs{0}, shadeNs{0}, secondaryNs{0};
+    using Clock = std::chrono::steady_clock;
+    const auto nanoseconds = [](Clock::time_point a, Clock::time_point b) {
+        return std::chrono::duration_cast<std::chrono::nanoseconds>(b - a).count();
+    };
     std::mutex progressMutex;
     const int64_t totalPixels = int64_t(s.width) * s.height;
 
@@ -32,14 +40,23 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
     const bool centresOnly = !s.view && !sampler;
     const double aspect = double(s.width) / double(s.height);
     const auto renderTile = [&](int x0, int y0, int x1, int y1) {
-        int64_t nPrimary = 0, nShadow = 0, nSky = 0, nHits = 0;
+        int64_t nPrimary = 0, nShadow = 0, nSky = 0, nHits = 0, nShadeNs = 0;
+        const auto tileStart = s.timePhases ? Clock::now() : Clock::time_point{};
+        if (s.timePhases) TerrainShader::takeSecondaryRaySeconds();  // this thread's count starts here
         // What camera sample k of pixel (x, y) brings back: the base's wall in front, the terrain, or the backdrop.
-        const auto radiance = [&](const Ray& ray, const std::optional<HeightFieldHit>& hit, int x, int y, int k) {
-            ++nPrimary;
+        const auto shade = [&](const Ray& ray, const std::optional<HeightFieldHit>& hit, int x, int y, int k) {
             if (const auto wall = shader.base(ray, hit ? hit->t : kInfinity, nShadow)) return *wall;
             if (!hit) return shader.miss(ray.dir);
             ++nHits;
             return shader.hit(*hit, ray, x, y, nShadow, nSky, k);
+        };
+        const auto radiance = [&](const Ray& ray, const std::optional<HeightFieldHit>& hit, int x, int y, int k) {
+            ++nPrimary;
+            if (!s.timePhases) return shade(ray, hit, x, y, k);
+            const auto t0 = Clock::now();
+            const glm::vec3 value = shade(ray, hit, x, y, k);
+            nShadeNs += nanoseconds(t0, Clock::now());
+            return value;
         };
         if (centresOnly) {
             traceCameraRays(surface, s.camera, s.width, s.height, x0, y0, x1, y1,
@@ -65,6 +82,11 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
         shadow += nShadow;
         sky += nSky;
         hits += nHits;
+        if (s.timePhases) {
+            tileNs += nanoseconds(tileStart, Clock::now());
+            shadeNs += nShadeNs;
+            secondaryNs += int64_t(TerrainShader::takeSecondaryRaySeconds() * 1e9);
+        }
         const int64_t done = pixelsDone += int64_t(x1 - x0) * (y1 - y0);
         if (s.progress) {
             std::lock_guard lock(progressMutex);
@@ -112,6 +134,13 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
         stats->skyVisibilityRays = sky;
         stats->hits = hits;
         stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (s.timePhases) {
+            // A rank's own threads (the film's sums are the leader's; these are not summed over ranks).
+            stats->setupSeconds = setupSeconds;
+            stats->secondaryRaySeconds = double(secondaryNs.load()) * 1e-9;
+            stats->shadingSeconds = double(shadeNs.load() - secondaryNs.load()) * 1e-9;
+            stats->cameraRaySeconds = double(tileNs.load() - shadeNs.load()) * 1e-9;
+        }
     }
     return film;
 }

@@ -39,6 +39,7 @@ struct TerrainRenderSettings {
     float ambient = 0.18f;                     // shadeTerrainHit's constant ambient, fraction of the sun's
     int threads = 0;                           // worker threads; 0 = all cores
     int tileSize = 32;                         // pixels per side of a work tile
+    bool timePhases = false;                   // fill RenderStats' thread-seconds (a clock read per ray)
     // Called now and then with the fraction of pixels done and the rays traced so far (any thread, serialised).
     std::function<void(double fraction, int64_t rays)> progress;
 };
@@ -50,6 +51,14 @@ struct RenderStats {
     int64_t skyVisibilityRays = 0;
     int64_t hits = 0;
     double seconds = 0.0;
+    // With TerrainRenderSettings::timePhases, thread-seconds summed over the threads: camera rays (their walks
+    // and the work tiles around them), secondary rays (shadow and sky-visibility rays), and shading (normals,
+    // colours, the sun's and the sky's light, the air between, the backdrop): the three make up the render's
+    // thread time.
+    double setupSeconds = 0.0;  // of `seconds`: the shader's set-up (the sky's tables) before any ray
+    double cameraRaySeconds = 0.0;
+    double secondaryRaySeconds = 0.0;
+    double shadingSeconds = 0.0;
 };
 
 // Traces the camera rays of the pixels [x0, x1) x [y0, y1) of a width x height film through `surface`, in
