@@ -51,7 +51,7 @@ void addRenderCommand(CLI::App& app, Commands& commands) {
     cmd->add_flag("-q,--quiet", t->quiet, "No progress or summary on stderr");
     cmd->add_flag("-v,--verbose", render.verbose,
                   "Perspective: also tell each phase's seconds (reading and decoding the DEM, its pyramid, the surface, "
-                  "tracing and shading with the thread time of camera rays, shadow and sky rays and shading, writing)");
+                  "tracing and shading with the thread time of camera, shadow and sky-visibility rays and shading, writing)");
     cmd->add_option("--view", t->view,
                     "perspective (default); orthographic (the perspective view's direction without perspective, "
                     "spanning the DEM); panorama (360 x 180 degrees from 2 m above the DEM's centre, north in the "

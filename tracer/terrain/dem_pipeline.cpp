@@ -325,14 +325,17 @@ TerrainRenderSettings perspectiveSettings(const DemRenderOptions& o, const Loade
 }
 
 std::string renderPhasesLine(const RenderPhaseSeconds& p) {
-    const double threadSeconds = p.cameraRayThreadSeconds + p.secondaryRayThreadSeconds + p.shadingThreadSeconds;
+    const double threadSeconds =
+        p.cameraRayThreadSeconds + p.shadowRayThreadSeconds + p.skyRayThreadSeconds + p.shadingThreadSeconds;
     const auto share = [&](double part) { return threadSeconds > 0.0 ? 100.0 * part / threadSeconds : 0.0; };
     return fmt::format("phases: read, decode and grid {:.4f} s, pyramid {:.4f} s, surface {:.4f} s, trace and shade "
                        "{:.4f} s (sky tables {:.4f} s; the work tiles' thread time: camera rays {:.4f} s {:.0f} %, shadow "
-                       "and sky rays {:.4f} s {:.0f} %, shading {:.4f} s {:.0f} %), write {:.4f} s; total {:.4f} s",
+                       "rays {:.4f} s {:.0f} %, sky-visibility rays {:.4f} s {:.0f} %, shading {:.4f} s {:.0f} %), write "
+                       "{:.4f} s; total {:.4f} s",
                        p.load - p.pyramid, p.pyramid, p.build, p.render, p.skySetup, p.cameraRayThreadSeconds,
-                       share(p.cameraRayThreadSeconds), p.secondaryRayThreadSeconds,
-                       share(p.secondaryRayThreadSeconds), p.shadingThreadSeconds, share(p.shadingThreadSeconds),
+                       share(p.cameraRayThreadSeconds), p.shadowRayThreadSeconds, share(p.shadowRayThreadSeconds),
+                       p.skyRayThreadSeconds, share(p.skyRayThreadSeconds), p.shadingThreadSeconds,
+                       share(p.shadingThreadSeconds),
                        p.write, p.total);
 }
 
@@ -385,7 +388,8 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     phases.pyramid = grid.tiled() ? 0.0 : grid.pyramidBuildSeconds();
     phases.skySetup = stats.setupSeconds;
     phases.cameraRayThreadSeconds = stats.cameraRaySeconds;
-    phases.secondaryRayThreadSeconds = stats.secondaryRaySeconds;
+    phases.shadowRayThreadSeconds = stats.shadowRaySeconds;
+    phases.skyRayThreadSeconds = stats.skyRaySeconds;
     phases.shadingThreadSeconds = stats.shadingSeconds;
     const int64_t rays = stats.primaryRays + stats.shadowRays + stats.skyVisibilityRays;
     const std::string tiles = tileTraffic(grid);

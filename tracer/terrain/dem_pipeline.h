@@ -125,11 +125,12 @@ struct RenderPhaseSeconds {
     double render = 0.0;  // tracing and shading the picture
     double write = 0.0;   // encoding and writing the picture
     double total = 0.0;   // from the first check of the options to the picture on disk
-    // With DemRenderOptions::verbose, the render's thread-seconds (RenderStats): camera rays, shadow and
+    // With DemRenderOptions::verbose, the render's thread-seconds (RenderStats): camera rays, shadow rays,
     // sky-visibility rays, and shading; 0 otherwise.
     double skySetup = 0.0;  // of `render`: the shader's set-up (the sky's tables), before any ray
     double cameraRayThreadSeconds = 0.0;
-    double secondaryRayThreadSeconds = 0.0;
+    double shadowRayThreadSeconds = 0.0;
+    double skyRayThreadSeconds = 0.0;
     double shadingThreadSeconds = 0.0;
 };
 

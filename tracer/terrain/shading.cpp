@@ -110,21 +110,21 @@ glm::vec3 TerrainShader::miss(const glm::dvec3& dir) const {
 
 namespace {
 
-thread_local int64_t secondaryRayNanoseconds = 0;
+thread_local int64_t secondaryRayNanoseconds[2] = {0, 0};  // shadow rays, sky-visibility rays
 
 }  // namespace
 
-double TerrainShader::takeSecondaryRaySeconds() {
-    const double seconds = double(secondaryRayNanoseconds) * 1e-9;
-    secondaryRayNanoseconds = 0;
+TerrainShader::RaySeconds TerrainShader::takeSecondaryRaySeconds() {
+    const RaySeconds seconds{double(secondaryRayNanoseconds[0]) * 1e-9, double(secondaryRayNanoseconds[1]) * 1e-9};
+    secondaryRayNanoseconds[0] = secondaryRayNanoseconds[1] = 0;
     return seconds;
 }
 
-bool TerrainShader::occluded(const Ray& ray) const {
+bool TerrainShader::occluded(const Ray& ray, bool sky) const {
     if (!timeRays_) return surface_.occluded(ray, {0.0, kInfinity});
     const auto start = std::chrono::steady_clock::now();
     const bool blocked = surface_.occluded(ray, {0.0, kInfinity});
-    secondaryRayNanoseconds += std::chrono::duration_cast<std::chrono::nanoseconds>(
+    secondaryRayNanoseconds[sky ? 1 : 0] += std::chrono::duration_cast<std::chrono::nanoseconds>(
                                    std::chrono::steady_clock::now() - start).count();
     return blocked;
 }
@@ -139,7 +139,7 @@ std::optional<glm::vec3> TerrainShader::base(const Ray& ray, double tMax, int64_
     if (cosSun > 0.0 && toSun_.z > -1.0) {
         ++shadowRays;
         const Ray toward{wall->point + wall->normal * (1e-6 * (1.0 + glm::length(wall->point))), toSun_};
-        if (!occluded(toward)) light += sky_.sunlight(sunIrradiance_, toSun_, wall->point.z) * float(cosSun);
+        if (!occluded(toward, false)) light += sky_.sunlight(sunIrradiance_, toSun_, wall->point.z) * float(cosSun);
     }
     return sky_.throughAir(kSolidBaseAlbedo * light, ray.dir, wall->t);
 }
@@ -170,7 +170,7 @@ glm::vec3 TerrainShader::hit(const HeightFieldHit& hit, const Ray& ray, int px, 
     glm::vec3 light{0.0f};
     if (const auto shadowRay = sunShadowRay(hit, ray.dir, sun_)) {
         ++shadowRays;
-        if (!occluded(*shadowRay))
+        if (!occluded(*shadowRay, false))
             light += sky_.sunlight(sunIrradiance_, toSun_, hit.pointM.z) * float(std::max(0.0, glm::dot(n, toSun_)));
     }
     light += skyLight(hit, n, px, py, sample, skyRays);
@@ -187,7 +187,7 @@ glm::vec3 TerrainShader::skyLight(const HeightFieldHit& hit, const glm::dvec3& n
     if (count <= 0) return open;
     skyRays += count;
     return open * openSkyFraction(n, count, RandomStream(seed_, px, py, uint64_t(sample)).uniform2(0), [&](const glm::dvec3& dir) {
-               return occluded(Ray{spawnOrigin(hit, dir), dir});
+               return occluded(Ray{spawnOrigin(hit, dir), dir}, true);
            });
 }
 

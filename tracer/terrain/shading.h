@@ -87,11 +87,17 @@ public:
     // With `on`, the shadow and sky-visibility rays' time is added up per thread (render --verbose); off by
     // default, when it costs nothing.
     void timeSecondaryRays(bool on) { timeRays_ = on; }
-    // The seconds this thread spent tracing secondary rays since its last call (0 unless timed).
-    static double takeSecondaryRaySeconds();
+    // The seconds this thread spent tracing shadow rays and sky-visibility rays since its last call (0 unless
+    // timed).
+    struct RaySeconds {
+        double shadow = 0.0;
+        double sky = 0.0;
+    };
+    static RaySeconds takeSecondaryRaySeconds();
 
 private:
-    bool occluded(const Ray& ray) const;
+    // `sky`: a sky-visibility ray, else a shadow ray (towards the sun).
+    bool occluded(const Ray& ray, bool sky) const;
 
     glm::vec3 albedo(const HeightFieldHit& hit) const;
     glm::vec3 skyLight(const HeightFieldHit& hit, const glm::dvec3& n, int px, int py, int sample,

@@ -25,7 +25,7 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
 
     std::atomic<int64_t> primary{0}, shadow{0}, sky{0}, hits{0}, pixelsDone{0};
     // Thread-nanoseconds of the work tiles, of shading (secondary rays included) and of the secondary rays.
-    std::atomic<int64_t> tileNs{0}, shadeNs{0}, secondaryNs{0};
+    std::atomic<int64_t> tileNs{0}, shadeNs{0}, shadowNs{0}, skyNs{0};
     using Clock = std::chrono::steady_clock;
     const auto nanoseconds = [](Clock::time_point a, Clock::time_point b) {
         return std::chrono::duration_cast<std::chrono::nanoseconds>(b - a).count();
@@ -85,7 +85,9 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
         if (s.timePhases) {
             tileNs += nanoseconds(tileStart, Clock::now());
             shadeNs += nShadeNs;
-            secondaryNs += int64_t(TerrainShader::takeSecondaryRaySeconds() * 1e9);
+            const auto rays = TerrainShader::takeSecondaryRaySeconds();
+            shadowNs += int64_t(rays.shadow * 1e9);
+            skyNs += int64_t(rays.sky * 1e9);
         }
         const int64_t done = pixelsDone += int64_t(x1 - x0) * (y1 - y0);
         if (s.progress) {
@@ -137,8 +139,9 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
         if (s.timePhases) {
             // A rank's own threads (the film's sums are the leader's; these are not summed over ranks).
             stats->setupSeconds = setupSeconds;
-            stats->secondaryRaySeconds = double(secondaryNs.load()) * 1e-9;
-            stats->shadingSeconds = double(shadeNs.load() - secondaryNs.load()) * 1e-9;
+            stats->shadowRaySeconds = double(shadowNs.load()) * 1e-9;
+            stats->skyRaySeconds = double(skyNs.load()) * 1e-9;
+            stats->shadingSeconds = double(shadeNs.load() - shadowNs.load() - skyNs.load()) * 1e-9;
             stats->cameraRaySeconds = double(tileNs.load() - shadeNs.load()) * 1e-9;
         }
     }

@@ -52,12 +52,12 @@ struct RenderStats {
     int64_t hits = 0;
     double seconds = 0.0;
     // With TerrainRenderSettings::timePhases, thread-seconds summed over the threads: camera rays (their walks
-    // and the work tiles around them), secondary rays (shadow and sky-visibility rays), and shading (normals,
-    // colours, the sun's and the sky's light, the air between, the backdrop): the three make up the render's
-    // thread time.
+    // and the work tiles around them), shadow rays, sky-visibility rays, and shading (normals, colours, the sun's
+    // and the sky's light, the air between, the backdrop): the four make up the work tiles' thread time.
     double setupSeconds = 0.0;  // of `seconds`: the shader's set-up (the sky's tables) before any ray
     double cameraRaySeconds = 0.0;
-    double secondaryRaySeconds = 0.0;
+    double shadowRaySeconds = 0.0;
+    double skyRaySeconds = 0.0;
     double shadingSeconds = 0.0;
 };
 
