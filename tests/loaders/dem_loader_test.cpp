@@ -1,5 +1,6 @@
 // Loader tests on the real sample files. Expected figures come from `gdalinfo -stats` and from the tiles'
 // published extents; pixels are cross-checked by reading them independently with GDAL and OpenImageIO.
+#include "support/grid_compare.h"
 #include "support/png_rasters.h"
 #include "support/temp_dir.h"
 #include "loaders/dem_loader.h"
@@ -762,11 +763,7 @@ TEST_CASE("16-bit DEMs load straight into codes: every vertex as GDAL reads it, 
             for (int64_t i = 0; i < W; ++i)
                 differ += std::bit_cast<uint32_t>(grid.at(i, j)) != std::bit_cast<uint32_t>(reference.at(i, j));
         REQUIRE(grid.pyramidLevels() == reference.pyramidLevels());
-        for (int k = 1; k <= grid.pyramidLevels(); ++k)
-            for (int64_t bj = 0; bj < grid.pyramidBlocksY(k); ++bj)
-                for (int64_t bi = 0; bi < grid.pyramidBlocksX(k); ++bi)
-                    differ += grid.blockMaxM(k, bi, bj) != reference.blockMaxM(k, bi, bj) ||
-                              grid.blockMinM(k, bi, bj) != reference.blockMinM(k, bi, bj);
+        differ += terracast::testing::pyramidDifferences(grid, reference);
         CHECK(differ == 0);
         fs::remove(copy);
     }
