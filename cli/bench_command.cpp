@@ -21,7 +21,7 @@ std::string povrayExecutable(const std::string& given) {
     const std::string found = given.find('/') == std::string::npos ? findOnPath(given) : given;
     if (found.empty() || ::access(found.c_str(), X_OK) != 0 || !std::filesystem::is_regular_file(found))
         throw InputError(fmt::format("--povray: expected an executable (a path, a name on PATH, or none), found '{}'", given));
-    return found;
+    return std::filesystem::absolute(found).string();
 }
 
 }  // namespace

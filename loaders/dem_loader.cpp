@@ -413,17 +413,18 @@ struct DemWindowReader::Impl {
         return band;
     }
 
-    // Drops the blocks GDAL's cache holds of every opening: a whole raster read band by band need not keep the
-    // decoded raster a second time beside the grid.
+    // Drops the blocks GDAL's cache holds of every opening (of all its bands: an interleaved raster caches the
+    // others' blocks beside band 1's): a whole raster read band by band need not keep the decoded raster a
+    // second time beside the grid. (The sources behind a VRT keep theirs, up to GDAL's cache limit.)
     void dropCachedBlocks() const {
         {
             const std::lock_guard<std::mutex> lock(readMutex);
-            band->FlushCache(false);
+            dataset->FlushCache(false);
         }
         const std::lock_guard<std::mutex> list(handlesMutex);
         for (const auto& h : handles) {
             const std::lock_guard<std::mutex> lock(h->mutex);
-            h->band->FlushCache(false);
+            h->dataset->FlushCache(false);
         }
     }
 
@@ -581,9 +582,12 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, c
     const auto [firstRow, endRow] = sharedRows(height, shared ? ranks::rank() : 0, parts);
     // From the first raster row on (the grid's last), so that a bad height is reported at the first raster row
     // that holds one (in a shared load: the first of the rank that meets one first; that rank ends them all).
-    // Bands of about 2^21 samples in whole storage blocks, whose decoded blocks are dropped from GDAL's cache once
-    // read: no block is decoded twice, and the cache never holds the raster beside the grid.
-    const int64_t rowsPerBand = std::max<int64_t>(1, (int64_t{1} << 21) / width / reader.blockRows) * reader.blockRows;
+    // Bands of about 2^21 samples, in whole storage blocks where a block is shorter than that, whose decoded blocks
+    // are dropped from GDAL's cache once read: a block is decoded once (unless taller than a band: a raster
+    // stored as a few strips), and the cache does not hold the raster beside the grid.
+    const int64_t budgetRows = std::max<int64_t>(1, (int64_t{1} << 21) / width);
+    const int64_t rowsPerBand =
+        reader.blockRows <= budgetRows ? budgetRows / reader.blockRows * reader.blockRows : budgetRows;
     for (int64_t r = firstRow; r < endRow; r += rowsPerBand) {
         const auto [j0, j1] = gridRows(r, std::min(endRow, r + rowsPerBand));
         const auto offset = static_cast<size_t>(j0 * width);

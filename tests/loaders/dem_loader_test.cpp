@@ -687,13 +687,14 @@ TEST_CASE("A PNG height map whose text chunk inflates to 256 MiB loads without i
 TEST_CASE("16-bit DEMs load straight into codes: every vertex as GDAL reads it, and the float path's grid",
           "[loaders]") {
     TempDir dir("int16-codes");
-    // A tiled raster whose height is no multiple of its 64-row blocks (nor of the loader's bands), with nodata
-    // holes, negative heights and a row of nodata; and the int16 samples.
+    // A tiled raster read in two bands (the loader's bands hold about 2^21 samples in whole blocks: 960 rows of
+    // 2100, then 140), its height no multiple of its 64-row blocks, with nodata holes, negative heights and a row
+    // of nodata; and the int16 samples.
     const std::string tiled = (dir.path() / "tiled.tif").string();
     {
         TiffSpec spec;
-        spec.width = 301;
-        spec.height = 2000;
+        spec.width = 2100;
+        spec.height = 1100;
         spec.type = GDT_Int16;
         spec.hasNodata = true;
         spec.nodata = -9999;

@@ -243,8 +243,9 @@ TEST_CASE("DEM windows: threads reading at once each get their own window right"
                 ++ready;
                 while (ready.load() < 4) std::this_thread::yield();  // all four read at once
                 std::mt19937_64 rng{uint64_t(t)};
+                // Windows up to 200 x 200: reads long enough to meet one another even on a busy machine.
                 for (int n = 0; n < 100 && failures[size_t(t)].empty(); ++n) {
-                    const int64_t w = 1 + int64_t(rng() % 64), h = 1 + int64_t(rng() % 64);
+                    const int64_t w = 1 + int64_t(rng() % 200), h = 1 + int64_t(rng() % 200);
                     const int64_t i0 = int64_t(rng() % uint64_t(reader.width() - w + 1));
                     const int64_t j0 = int64_t(rng() % uint64_t(reader.height() - h + 1));
                     failures[size_t(t)] = compareWindow(reader, dem.grid, i0, j0, w, h);

@@ -4,6 +4,7 @@
 #include "loaders/height_png.h"
 #include "loaders/image_io.h"
 #include "loaders/output_paths.h"
+#include "tracer/core/cancel.h"
 #include "tracer/core/errors.h"
 #include "tracer/core/resources.h"
 #include "tracer/core/text.h"
@@ -19,6 +20,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -107,53 +109,23 @@ ProcessRun runChecked(const std::vector<std::string>& argv, const std::filesyste
     const std::string log = (folder / "children.log").string();
     std::filesystem::remove(log);
     const ProcessRun run = runTimedProcess(argv, folder.string(), log);
+    // Ctrl-C reaches the child too: the bench stops as interrupted.
+    if (run.exitCode == 130 || run.exitCode == 128 + SIGINT || cancelFlag().load()) throw Cancelled();
     if (run.exitCode != 0)
-        throw std::runtime_error(fmt::format("bench --file-to-picture: {} exited with status {}: {}", what, run.exitCode,
-                                             lastLogLine(log)));
+        throw std::runtime_error(fmt::format("{} exited with status {}: {}", what, run.exitCode, lastLogLine(log)));
     return run;
 }
 
-// `render` and POV-Ray as whole processes on the same height map (see WholeProcessComparison), then each one's
-// silhouette: terracast's `triangles` surface traced here through render's camera against POV-Ray's picture of
-// the terrain alone.
-WholeProcessComparison compareWholeProcesses(const FileToPictureOptions& o, const DemRenderOptions& render,
-                                             const std::string& heightMap, const std::filesystem::path& folder,
-                                             const std::function<void(const std::string&)>& onStep,
-                                             const std::function<void(const std::string&)>& onWarning) {
-    WholeProcessComparison c;
-    if (o.terracastExecutable.empty()) {
-        c.skippedWhy = "no terracast executable to run";
-        return c;
-    }
-    if (o.povray.empty()) {
-        c.skippedWhy = "POV-Ray is not installed (Debian's povray package)";
-        return c;
-    }
-    // The grid as `render` loads it (the PNG's whole metres): its camera, extents and memory.
-    DemSource source;
-    source.path = heightMap;
-    source.imageCellSizeM = render.dem.imageCellSizeM;
-    source.maxMemoryBytes = o.maxMemoryBytes;
-    RunListener quiet;
-    quiet.warning = onWarning;
-    const LoadedDem dem = loadDemSource(source, quiet);
-    const HeightGrid& grid = dem.grid;
+// `render` and POV-Ray as whole processes on the same height map (see WholeProcessComparison): first each one's
+// silhouette (terracast's `triangles` surface traced here through render's camera, against POV-Ray's picture of
+// the terrain alone), then, with the bench's own copy of the grid released, the paired runs.
+void runWholeProcesses(WholeProcessComparison& c, const FileToPictureOptions& o, const DemRenderOptions& render,
+                       const std::string& heightMap, const std::filesystem::path& folder,
+                       const std::function<void(const std::string&)>& onStep,
+                       const std::function<void(const std::string&)>& onWarning) {
     const int W = render.width, H = render.height;
     const double aspect = double(W) / double(H);
-    const PinholeCamera camera = autoCamera(grid, aspect);
-
-    PovrayHeightFieldView view;
-    view.heightMap = std::filesystem::path(heightMap).filename().string();
-    view.extentXM = grid.extentXM();
-    view.extentYM = grid.extentYM();
-    view.camera = camera;
-    view.aspect = aspect;
-    view.sunAzimuthDeg = render.sunAzimuthDeg;
-    view.sunElevationDeg = render.sunElevationDeg;
-    writeTextFile((folder / "terrain.pov").string(), povrayHeightFieldScene(view));
-    view.silhouette = true;
-    writeTextFile((folder / "silhouette.pov").string(), povrayHeightFieldScene(view));
-
+    const std::string size = fmt::format("{}x{}", W, H);
     {
         const std::string log = (folder / "version.log").string();
         runTimedProcess({o.povray, "--version"}, folder.string(), log);
@@ -165,11 +137,61 @@ WholeProcessComparison compareWholeProcesses(const FileToPictureOptions& o, cons
                 break;
             }
     }
-    const std::string size = fmt::format("{}x{}", W, H);
-    const std::vector<std::string> terracastArgs{
+    {
+        // The grid as `render` loads it (the PNG's whole metres): its camera, extents and memory.
+        DemSource source;
+        source.path = heightMap;
+        source.imageCellSizeM = render.dem.imageCellSizeM;
+        source.maxMemoryBytes = o.maxMemoryBytes;
+        RunListener quiet;
+        quiet.warning = onWarning;
+        const LoadedDem dem = loadDemSource(source, quiet);
+        const HeightGrid& grid = dem.grid;
+        const PinholeCamera camera = autoCamera(grid, aspect);
+        c.gridBytes = double(grid.memoryBytes());
+
+        PovrayHeightFieldView view;
+        view.heightMap = std::filesystem::path(heightMap).filename().string();
+        view.extentXM = grid.extentXM();
+        view.extentYM = grid.extentYM();
+        view.camera = camera;
+        view.aspect = aspect;
+        view.sunAzimuthDeg = render.sunAzimuthDeg;
+        view.sunElevationDeg = render.sunElevationDeg;
+        writeTextFile((folder / "terrain.pov").string(), povrayHeightFieldScene(view));
+        view.silhouette = true;
+        writeTextFile((folder / "silhouette.pov").string(), povrayHeightFieldScene(view));
+
+        // Silhouettes: which pixels' camera rays meet the terrain, by each.
+        if (onStep) onStep("silhouettes: POV-Ray's and the triangles surface's");
+        runChecked({o.povray, "+Isilhouette.pov", "+Osilhouette.png", "+FN", fmt::format("+W{}", W),
+                    fmt::format("+H{}", H), "-D", "-P", "-A", fmt::format("+WT{}", o.threads)},
+                   folder, "POV-Ray");
+        const RgbImage theirsMask = readImage((folder / "silhouette.png").string());
+        if (theirsMask.width != W || theirsMask.height != H)
+            throw std::runtime_error(fmt::format("POV-Ray's silhouette is {}x{}, not {}", theirsMask.width,
+                                                 theirsMask.height, size));
+        const TerrainSurface triangles(grid, SurfaceMethod::Triangles, o.threads);
+        c.silhouettePixels = 0;
+        c.silhouetteMismatches = 0;
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x) {
+                const Ray ray = camera.generate((x + 0.5) / W, (y + 0.5) / H, aspect);
+                const bool ourHit = triangles.intersect(ray, Interval{}).has_value();
+                const bool theirHit = theirsMask.at(x, y, 0) > 0.5f;
+                c.silhouettePixels += (ourHit || theirHit) ? 1 : 0;
+                c.silhouetteMismatches += ourHit != theirHit ? 1 : 0;
+            }
+    }
+
+    std::vector<std::string> terracastArgs{
         o.terracastExecutable, "render", heightMap, "--cell-size", fmt::format("{:g}", render.dem.imageCellSizeM),
         "--size", size, "--threads", std::to_string(o.threads), "--sky-samples", "0", "--no-base", "--background",
         "ground", "--quiet", "-o", (folder / "whole-terracast.png").string()};
+    if (o.maxMemoryBytes > 0.0) {
+        terracastArgs.push_back("--max-memory");
+        terracastArgs.push_back(fmt::format("{}K", int64_t(std::ceil(o.maxMemoryBytes / 1024.0))));
+    }
     const std::vector<std::string> povrayArgs{
         o.povray, "+Iterrain.pov", "+Owhole-povray.png", "+FN", fmt::format("+W{}", W), fmt::format("+H{}", H),
         "-D", "-P", "-A", fmt::format("+WT{}", o.threads)};
@@ -188,31 +210,33 @@ WholeProcessComparison compareWholeProcesses(const FileToPictureOptions& o, cons
     c.terracast = summarizeRuns(ours);
     c.povray = summarizeRuns(theirs);
     c.speedup = c.povray.medianSeconds / c.terracast.medianSeconds;
-    c.gridBytes = double(grid.memoryBytes());
     c.pictureBytes = double(W) * double(H) * kFilmBytesPerPixel;
     c.peakOverGridAndPicture = c.terracast.peakBytes / (c.gridBytes + c.pictureBytes);
-
-    // Silhouettes: which pixels' camera rays meet the terrain, by each.
-    if (onStep) onStep("silhouettes: POV-Ray's and the triangles surface's");
-    runChecked({o.povray, "+Isilhouette.pov", "+Osilhouette.png", "+FN", fmt::format("+W{}", W), fmt::format("+H{}", H),
-                "-D", "-P", "-A", fmt::format("+WT{}", o.threads)},
-               folder, "POV-Ray");
-    const RgbImage theirsMask = readImage((folder / "silhouette.png").string());
-    if (theirsMask.width != W || theirsMask.height != H)
-        throw std::runtime_error(fmt::format("bench --file-to-picture: POV-Ray's silhouette is {}x{}, not {}", theirsMask.width,
-                                             theirsMask.height, size));
-    const TerrainSurface triangles(grid, SurfaceMethod::Triangles, o.threads);
-    c.silhouettePixels = 0;
-    c.silhouetteMismatches = 0;
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-            const Ray ray = camera.generate((x + 0.5) / W, (y + 0.5) / H, aspect);
-            const bool ourHit = triangles.intersect(ray, Interval{}).has_value();
-            const bool theirHit = theirsMask.at(x, y, 0) > 0.5f;
-            c.silhouettePixels += (ourHit || theirHit) ? 1 : 0;
-            c.silhouetteMismatches += ourHit != theirHit ? 1 : 0;
-        }
     c.ran = true;
+}
+
+// The comparison, or why it did not run: POV-Ray is an optional peer, so its failure (or terracast's own
+// render refused) is reported, and the bench's other results stand. Ctrl-C still stops the bench.
+WholeProcessComparison compareWholeProcesses(const FileToPictureOptions& o, const DemRenderOptions& render,
+                                             bool bilinearSkipped, const std::string& heightMap,
+                                             const std::filesystem::path& folder,
+                                             const std::function<void(const std::string&)>& onStep,
+                                             const std::function<void(const std::string&)>& onWarning) {
+    WholeProcessComparison c;
+    if (o.terracastExecutable.empty()) c.skippedWhy = "no terracast executable to run";
+    else if (o.povray.empty()) c.skippedWhy = "POV-Ray is not installed (Debian's povray package)";
+    else if (bilinearSkipped) c.skippedWhy = "the bilinear render would not fit in --max-memory";
+    if (!c.skippedWhy.empty()) return c;
+    try {
+        runWholeProcesses(c, o, render, heightMap, folder, onStep, onWarning);
+    } catch (const Cancelled&) {
+        throw;
+    } catch (const std::exception& e) {
+        WholeProcessComparison failed;
+        failed.skippedWhy = fmt::format("failed: {}", e.what());
+        failed.povrayVersion = c.povrayVersion;
+        return failed;
+    }
     return c;
 }
 
@@ -317,7 +341,8 @@ FileToPictureResult fileToPicture(const FileToPictureOptions& o,
         }
     }
     pictures.clear();
-    out.wholeProcess = compareWholeProcesses(o, out.render, heightMap, scratch.path(), onStep, onWarning);
+    out.wholeProcess =
+        compareWholeProcesses(o, out.render, out.runs[0].skipped, heightMap, scratch.path(), onStep, onWarning);
     return out;
 }
 

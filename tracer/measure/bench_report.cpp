@@ -191,10 +191,12 @@ std::string fileToPictureTable(const FileToPictureResult& f, double limit) {
                        w.terracast.bestSeconds, peak(w.terracast.peakBytes), seconds(w.terracast));
     out += fmt::format("{:<10} {:>10.3f} {:>10.3f} {:>12}   {}\n", "POV-Ray", w.povray.medianSeconds, w.povray.bestSeconds,
                        peak(w.povray.peakBytes), seconds(w.povray));
-    out += fmt::format("terracast is {:.2f} times sooner (medians); its peak is {:.2f} times the grid ({}) plus the picture "
+    out += fmt::format("terracast is {:.2f} times sooner (medians); its peak is {} the grid ({}) plus the picture "
                        "({}); silhouettes of `triangles` and POV-Ray differ at {} of {} pixels on the terrain\n",
-                       w.speedup, w.peakOverGridAndPicture, humanBytes(w.gridBytes), humanBytes(w.pictureBytes),
-                       w.silhouetteMismatches, w.silhouettePixels);
+                       w.speedup,
+                       std::isnan(w.peakOverGridAndPicture) ? std::string("unknown against")
+                                                            : fmt::format("{:.2f} times", w.peakOverGridAndPicture),
+                       humanBytes(w.gridBytes), humanBytes(w.pictureBytes), w.silhouetteMismatches, w.silhouettePixels);
     return out;
 }
 

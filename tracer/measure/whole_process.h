@@ -21,7 +21,7 @@ struct ProcessRun {
 // std::runtime_error when it cannot be started.
 ProcessRun runTimedProcess(const std::vector<std::string>& argv, const std::string& folder, const std::string& logPath);
 
-// The full path of the executable `name` on PATH, or empty when there is none.
+// The absolute path of the executable `name` on PATH, or empty when there is none.
 std::string findOnPath(const std::string& name);
 
 // The path of the running executable (/proc/self/exe), or empty where the system does not say.
