@@ -308,12 +308,14 @@ HeightGrid HeightGrid::transformed(const HeightTransform& t) const {
     }
     std::vector<float> z = copyHeights();
     std::vector<uint8_t> valid(hasNodata() ? z.size() : 0);
-    for (int64_t j = 0; j < height_; ++j)
-        for (int64_t i = 0; i < width_; ++i) {
-            const auto k = static_cast<size_t>(j * width_ + i);
-            z[k] = t.apply(z[k], i, j, cellSizeXM_, cellSizeYM_);
-            if (!valid.empty()) valid[k] = vertexValid(i, j);
-        }
+    parallelRanges(height_, width_, [&](int64_t j0, int64_t j1) {
+        for (int64_t j = j0; j < j1; ++j)
+            for (int64_t i = 0; i < width_; ++i) {
+                const auto k = static_cast<size_t>(j * width_ + i);
+                z[k] = t.apply(z[k], i, j, cellSizeXM_, cellSizeYM_);
+                if (!valid.empty()) valid[k] = vertexValid(i, j);
+            }
+    });
     return HeightGrid(width_, height_, cellSizeXM_, cellSizeYM_, std::move(z), std::move(valid));
 }
 

@@ -11,6 +11,7 @@
 #include "tracer/core/errors.h"
 #include "tracer/core/text.h"
 
+#include <cpl_conv.h>
 #include <cpl_error.h>
 #include <cpl_string.h>
 #include <cpl_vsi.h>
@@ -467,6 +468,10 @@ void TiledGeoTiffWriter::commit(const std::function<bool(double)>& progress) {
         CacheLimit() { GDALSetCacheMax64(std::min<int64_t>(saved, kCopyCacheBytes)); }
         ~CacheLimit() { GDALSetCacheMax64(saved); }
     } cacheLimit;
+    // The COG driver builds the overviews in a temporary file first, compressed by default with ZSTD at a level
+    // whose set-up alone (about 0.07 s of clearing its tables) outweighs a small raster's whole copy; LZW makes
+    // that file as fast and the final file is the same.
+    CPLConfigOptionSetter temporaryCompression("COG_TMP_COMPRESSION", "LZW", true);
     CPLErrorReset();
     GDALDataset* out = cog->CreateCopy(temporaryPath.c_str(), vrt, FALSE, options.List(), copyProgress,
                                        const_cast<std::function<bool(double)>*>(&progress));

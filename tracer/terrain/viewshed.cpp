@@ -4,7 +4,9 @@
 #include "tracer/terrain/vertex_loop.h"
 
 #include "heightfield/horizon.h"
+#include "heightfield/traversal.h"
 #include "tracer/core/angles.h"
+#include "tracer/terrain/sight_bounds.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,6 +17,19 @@
 namespace terracast {
 
 using namespace vertex_maps;
+
+namespace {
+
+// The bounds are widened by this many times the grazing tolerance, so that what they settle is what the walk
+// decides.
+constexpr double kBoundsTolerance = 4.0;
+
+// True for the methods whose surface in a cell is the bilinear patch.
+bool bilinearSurface(CellMethod m) {
+    return m == CellMethod::Bilinear || m == CellMethod::BilinearDouble || m == CellMethod::Reference;
+}
+
+}  // namespace
 
 std::function<MapRaster(const VertexWindow&, const MapProgress&)> viewshedMaker(const HeightGrid& grid, const ViewshedSettings& s) {
     // Earth curvature (less refraction) lowers everything by coeff * d^2 / (2 R) with distance d from the
@@ -39,15 +54,21 @@ std::function<MapRaster(const VertexWindow&, const MapProgress&)> viewshedMaker(
     const double endGap = 0.01 * cellM;
     static constexpr double kNearTargetCells = 8.0;
     const bool visibleOnly = s.values == ViewshedValues::Visible;
-    return [g, curved, s, eye, cellM, endGap, visibleOnly](const VertexWindow& window, const MapProgress& progress) {
+    // Most sight lines are settled by bounds on the surface's slope around the eye (sight_bounds.h); the rest are
+    // walked from where those bounds stop. Not for tiled grids, which they would read whole.
+    std::shared_ptr<const SightBounds> bounds;
+    if (s.boundSightLines && s.values != ViewshedValues::Height && !g->tiled())
+        bounds = std::make_shared<const SightBounds>(*g, eye, kBoundsTolerance * grazingToleranceM(*g),
+                                                     bilinearSurface(s.method), s.threads);
+    return [g, curved, bounds, s, eye, cellM, endGap, visibleOnly](const VertexWindow& window, const MapProgress& progress) {
     return perVertex(*g, window, s.threads, progress, 1, [&](int64_t i, int64_t j) {
         if (!g->vertexValid(i, j)) return kNaN;
         const glm::dvec3 target{double(i) * g->cellSizeXM(), double(j) * g->cellSizeYM(),
                                 double(g->at(i, j)) + s.targetHeightM};
         const glm::dvec3 d = target - eye;
-        const double horizontal = std::hypot(d.x, d.y);
-        if (s.maxDistanceM > 0.0 && horizontal > s.maxDistanceM) return visibleOnly ? 0.0f : kNaN;
         if (s.values == ViewshedValues::Height) {
+            const double horizontal = std::hypot(d.x, d.y);
+            if (s.maxDistanceM > 0.0 && horizontal > s.maxDistanceM) return kNaN;
             // The sight line to (target, h + t) clears every surface point p at distance r along the way when
             // z_eye + r (h + t - z_eye) / D >= h(p), that is t >= D (h(p) - z_eye) / r + z_eye - h.
             if (!(horizontal > 0.0)) return 0.0f;
@@ -61,15 +82,34 @@ std::function<MapRaster(const VertexWindow&, const MapProgress&)> viewshedMaker(
             const double rounding = 1e-9 * (1.0 + std::abs(eye.z) + std::abs(h));
             return std::isfinite(need) && need > rounding ? float(need) : 0.0f;
         }
+        // (A square root rather than hypot: no overflow is possible here, and it costs a tenth.)
+        const double horizontal = std::sqrt(d.x * d.x + d.y * d.y);
+        if (s.maxDistanceM > 0.0 && horizontal > s.maxDistanceM) return visibleOnly ? 0.0f : kNaN;
         const double len = glm::length(d);
-        // The sight line stops just short of the target, so a target on the surface does not hide itself. The
-        // last few cells before the target are asked first: a target hidden by the ground around it (the common
-        // case far from the eye) is found there without walking the whole line.
-        const double end = 1.0 - endGap / len, nearTarget = std::max(0.0, end - kNearTargetCells * cellM / len);
-        const bool seen = len <= endGap || (!occluded(*g, Ray{eye, d}, {nearTarget, end}, s.method) &&
-                                            (nearTarget == 0.0 || !occluded(*g, Ray{eye, d}, {0.0, nearTarget}, s.method)));
+        // The sight line stops just short of the target, so a target on the surface does not hide itself.
+        const double end = 1.0 - endGap / len;
+        bool seen;
+        if (len <= endGap) {
+            seen = true;
+        } else if (bounds && horizontal > 0.0) {
+            // Hidden when the surface surely rises above the line somewhere before the target; else the line is
+            // walked from as far as the bounds show it clear.
+            const double slope = d.z / horizontal, key = bounds->azimuthKey(d.x, d.y);
+            if (bounds->surelySlopeBefore(key, end * horizontal) > slope) {
+                seen = false;
+            } else {
+                const double clear = bounds->clearBefore(key, slope) / horizontal;
+                seen = clear >= end || !occluded(*g, Ray{eye, d}, {clear, end}, s.method);
+            }
+        } else {
+            // The last few cells before the target are asked first: a target hidden by the ground around it (the
+            // common case far from the eye) is found there without walking the whole line.
+            const double nearTarget = std::max(0.0, end - kNearTargetCells * cellM / len);
+            seen = !occluded(*g, Ray{eye, d}, {nearTarget, end}, s.method) &&
+                   (nearTarget == 0.0 || !occluded(*g, Ray{eye, d}, {0.0, nearTarget}, s.method));
+        }
         if (visibleOnly) return seen ? 1.0f : 0.0f;
-        return seen ? float(degrees(std::atan2(d.z, horizontal))) : kNaN;
+        return seen ? float(degrees(std::atan2(d.z, std::hypot(d.x, d.y)))) : kNaN;
     });
     };
 }

@@ -1,0 +1,189 @@
+// The slope bounds around an eye (tracer/terrain/sight_bounds.h) against the surface itself, sampled densely
+// along sight lines; and the viewshed they speed up against walking every sight line whole.
+#include "heightfield/fractal_terrain.h"
+#include "heightfield/traversal.h"
+#include "loaders/dem_loader.h"
+#include "tracer/terrain/maps.h"
+#include "tracer/terrain/sight_bounds.h"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+
+using namespace terracast;
+
+namespace {
+
+// The bilinear surface's height at (x, y) metres, or NaN over a hole or outside the grid.
+double surfaceAt(const HeightGrid& g, double x, double y) {
+    const double fx = x / g.cellSizeXM(), fy = y / g.cellSizeYM();
+    const int64_t i = std::clamp<int64_t>(int64_t(std::floor(fx)), 0, g.cellsX() - 1);
+    const int64_t j = std::clamp<int64_t>(int64_t(std::floor(fy)), 0, g.cellsY() - 1);
+    if (fx < 0.0 || fy < 0.0 || fx > double(g.cellsX()) || fy > double(g.cellsY()) || !g.cellValid(i, j))
+        return std::numeric_limits<double>::quiet_NaN();
+    const double u = fx - double(i), v = fy - double(j);
+    return (g.at(i, j) * (1.0 - u) + g.at(i + 1, j) * u) * (1.0 - v) + (g.at(i, j + 1) * (1.0 - u) + g.at(i + 1, j + 1) * u) * v;
+}
+
+struct Checked {
+    int64_t lines = 0, clearFar = 0, surelyKnown = 0;
+};
+
+// Sight lines from an eye `above` metres over the surface at (ex, ey) to random valid vertices: every stretch
+// the bounds call clear is above the surface by the tolerance at every sample (1/64 of a cell apart), and every
+// slope they say the surface reaches is reached by a sample.
+Checked checkAgainstSamples(const HeightGrid& g, double ex, double ey, double above, uint32_t seed) {
+    const double ez = surfaceAt(g, ex, ey) + above;
+    REQUIRE(std::isfinite(ez));
+    const double tolerance = 4.0 * grazingToleranceM(g);
+    const SightBounds bounds(g, {ex, ey, ez}, tolerance, true, 2);
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int64_t> pickI(0, g.width() - 1), pickJ(0, g.height() - 1);
+    const double step = std::min(g.cellSizeXM(), g.cellSizeYM()) / 64.0;
+    Checked c;
+    while (c.lines < 300) {
+        const int64_t i = pickI(rng), j = pickJ(rng);
+        if (!g.vertexValid(i, j)) continue;
+        const double dx = double(i) * g.cellSizeXM() - ex, dy = double(j) * g.cellSizeYM() - ey;
+        const double reach = std::hypot(dx, dy);
+        if (reach < 3.0 * step) continue;
+        ++c.lines;
+        const double ux = dx / reach, uy = dy / reach, slope = (double(g.at(i, j)) - ez) / reach;
+        const double key = SightBounds::azimuthKey(dx, dy);
+        const double clear = bounds.clearBefore(key, slope), surely = bounds.surelySlopeBefore(key, reach);
+        // The most the samples rise above the line (minus the tolerance) before `clear`, and the steepest slope
+        // s(P) = (z(P) - tolerance - z_eye) / |P - eye| they reach before the target, the best sample refined
+        // 4096 times finer around it.
+        const auto slopeAt = [&](double s) {
+            const double z = surfaceAt(g, ex + s * ux, ey + s * uy);
+            return std::isnan(z) ? -std::numeric_limits<double>::infinity() : (z - tolerance - ez) / s;
+        };
+        double worst = -std::numeric_limits<double>::infinity(), steepest = worst, best = 0.0;
+        for (double s = step; s < reach; s += step) {
+            const double z = surfaceAt(g, ex + s * ux, ey + s * uy);
+            if (std::isnan(z)) continue;
+            if (s < clear) worst = std::max(worst, z + tolerance - (ez + slope * s));
+            if (slopeAt(s) > steepest) {
+                steepest = slopeAt(s);
+                best = s;
+            }
+        }
+        for (double s = std::max(step / 4096.0, best - step); s < std::min(reach, best + step); s += step / 4096.0)
+            steepest = std::max(steepest, slopeAt(s));
+        INFO("eye (" << ex << ", " << ey << ", " << ez << ") target vertex (" << i << ", " << j << ") clear "
+                     << clear << " m of " << reach << ", surely " << surely << " line " << slope);
+        CHECK(worst < 0.0);
+        if (surely > -std::numeric_limits<double>::infinity()) {
+            CHECK(steepest >= surely - 1e-9 * std::abs(surely));
+            ++c.surelyKnown;
+        }
+        c.clearFar += clear > 0.5 * reach;
+    }
+    return c;
+}
+
+}  // namespace
+
+TEST_CASE("Sight bounds never claim more than the surface allows, along lines from eyes on real and fractal "
+          "terrain",
+          "[tracer][maps]") {
+    const std::string samples = std::string(TERRACAST_SOURCE_DIR) + "/data-samples/";
+    FractalTerrainOptions fo;
+    fo.size = 129;
+    fo.seed = 7;
+    const HeightGrid fractal = fractalTerrain(fo);
+    const LoadedDem helens = loadDem(samples + "usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif");
+    const LoadedDem nice = loadDem(samples + "srtm3-n43e007-nice-maritime-alps-coast-geographic-int16.tif");
+    // A tilted plane, where the cells' corner bounds are nearly the surface itself.
+    std::vector<float> tilted(size_t(65 * 65));
+    for (int64_t j = 0; j < 65; ++j)
+        for (int64_t i = 0; i < 65; ++i) tilted[size_t(j * 65 + i)] = float(100.0 + 3.0 * double(i) - 1.5 * double(j));
+    const HeightGrid plane(65, 65, 30.0, 30.0, std::move(tilted));
+    // A level plane, where they are exact but for the lines' distances.
+    const HeightGrid level(65, 97, 20.0, 30.0, std::vector<float>(size_t(65 * 97), 250.0f));
+    uint32_t seed = 1;
+    Checked total;
+    for (const HeightGrid* g : {&level, &plane, &fractal, &helens.grid, &nice.grid}) {
+        // The highest and the lowest vertex (a summit, a valley with the surface above the eye all round), and a
+        // point inside a cell; 2 m and 60 m up.
+        int64_t top = -1, low = -1;
+        for (int64_t k = 0; k < g->width() * g->height(); ++k) {
+            const int64_t i = k % g->width(), j = k / g->width();
+            if (!g->vertexValid(i, j)) continue;
+            if (top < 0 || g->at(i, j) > g->at(top % g->width(), top / g->width())) top = k;
+            if (low < 0 || g->at(i, j) < g->at(low % g->width(), low / g->width())) low = k;
+        }
+        const auto place = [g](int64_t k) {
+            return std::pair{double(k % g->width()) * g->cellSizeXM(), double(k / g->width()) * g->cellSizeYM()};
+        };
+        for (const auto& [x, y] : {place(top), place(low), std::pair{0.43 * g->extentXM() + 0.3 * g->cellSizeXM(),
+                                                                      0.57 * g->extentYM() + 0.6 * g->cellSizeYM()}}) {
+            if (std::isnan(surfaceAt(*g, x, y))) continue;
+            for (double above : {2.0, 60.0}) {
+                const Checked c = checkAgainstSamples(*g, x, y, above, seed++);
+                total.lines += c.lines;
+                total.clearFar += c.clearFar;
+                total.surelyKnown += c.surelyKnown;
+            }
+        }
+    }
+    // The bounds must also say something: most lines are clear for a good part of their way, or surely hidden.
+    INFO(total.lines << " lines: clear over half their way " << total.clearFar << ", surely reaching a slope "
+                     << total.surelyKnown);
+    CHECK(total.lines >= 7000);
+    CHECK(total.clearFar > total.lines / 5);
+    CHECK(total.surelyKnown > total.lines / 2);
+}
+
+TEST_CASE("Viewsheds settled by the sight bounds equal walking every sight line whole", "[tracer][maps]") {
+    const std::string samples = std::string(TERRACAST_SOURCE_DIR) + "/data-samples/";
+    const auto same = [](const MapRaster& a, const MapRaster& b) {
+        REQUIRE(a.values.size() == b.values.size());
+        int64_t differ = 0, seen = 0;
+        for (size_t k = 0; k < a.values.size(); ++k) {
+            const float x = a.values[k], y = b.values[k];
+            differ += !(x == y || (std::isnan(x) && std::isnan(y)));
+            seen += x == 1.0f || (!std::isnan(x) && x != 0.0f);
+        }
+        return std::pair{differ, seen};
+    };
+    struct Case {
+        const char* file;
+        double x, y, above, curvature;  // observer at (x, y) of the extent
+        CellMethod method;
+        ViewshedValues values;
+    };
+    for (const Case& c : {Case{"usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif", 0.5, 0.55, 1.7, 0.85714,
+                               CellMethod::Bilinear, ViewshedValues::Visible},
+                          Case{"usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif", 0.2, 0.8, 25.0, 0.0,
+                               CellMethod::Triangles, ViewshedValues::Angle},
+                          Case{"landfire-storm-lake-mt-utm12n-int16-small-nodata.tif", 0.37, 0.61, 10.0, 0.85714,
+                               CellMethod::Bilinear, ViewshedValues::Angle},
+                          Case{"landfire-storm-lake-mt-utm12n-int16-small-nodata.tif", 0.8, 0.1, 1.7, 0.0,
+                               CellMethod::Triangles, ViewshedValues::Visible},
+                          Case{"N44W072.srtm3-white-mountains-nh.hgt", 0.6967, 0.2706, 1.7, 0.85714,
+                               CellMethod::Bilinear, ViewshedValues::Visible}}) {
+        const LoadedDem dem = loadDem(samples + c.file);
+        const HeightGrid& g = dem.grid;
+        ViewshedSettings s;
+        s.observerXM = c.x * g.extentXM();
+        s.observerYM = c.y * g.extentYM();
+        s.observerHeightM = c.above;
+        s.curvatureCoeff = c.curvature;
+        s.method = c.method;
+        s.values = c.values;
+        const MapRaster bounded = viewshed(g, s);
+        s.boundSightLines = false;
+        const MapRaster walked = viewshed(g, s);
+        const auto [differ, seen] = same(bounded, walked);
+        INFO(c.file << " observer at " << c.x << ", " << c.y << ": " << seen << " of " << walked.values.size()
+                    << " vertices seen");
+        CHECK(differ == 0);
+        CHECK(seen > 1000);
+        CHECK(seen < int64_t(walked.values.size()) - 1000);
+    }
+}
