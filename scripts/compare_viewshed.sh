@@ -7,7 +7,8 @@
 #   scripts/compare_viewshed.sh [DEM] [TERRACAST]
 # Matched settings: observer 1.7 m above the ground, targets on the ground, curvature coefficient 0.85714 (gdal's
 # -cc default; r.viewshed -c -r with refraction_coeff 0.14286), the whole DEM. gdal_viewshed and r.viewshed run
-# on one thread (they have no other), terracast on 2 (--threads 2). Whole commands are timed.
+# on one thread (they have no other), terracast on 2 (--threads 2). Whole commands are timed; RUNS=N repeats
+# gdal_viewshed's and terracast's N times, taking turns, and reports their medians.
 set -eu
 . "$(dirname "$0")/grass_common.sh"
 summit=$(echo "-71.3033 44.2706" | gdaltransform -s_srs EPSG:4326 -t_srs "$dem" -output_xy 2>/dev/null || true)
@@ -27,14 +28,21 @@ PY
 )
 echo "| observer | gdal_viewshed s | r.viewshed s | terracast s | visible: gdal / GRASS / terracast / reference | agree with the reference: gdal / GRASS / terracast |"
 echo "|---|---|---|---|---|---|"
+median() { printf '%s\n' "$@" | sort -n | awk '{v[NR] = $1} END {print v[int((NR + 1) / 2)]}'; }
 name=valley
 for obs in $observers; do
     ox=${obs%,*}
     oy=${obs#*,}
-    tgd=$(seconds gdal_viewshed -q -oz 1.7 -cc 0.85714 -ox "$ox" -oy "$oy" "$dem" "$work/gd.tif")
+    # gdal_viewshed and terracast take turns RUNS times (1 unless set); the median of each is reported.
+    gds="" tcs=""
+    for _ in $(seq "${RUNS:-1}"); do
+        gds="$gds $(seconds gdal_viewshed -q -oz 1.7 -cc 0.85714 -ox "$ox" -oy "$oy" "$dem" "$work/gd.tif")"
+        tcs="$tcs $(seconds "$tc" viewshed "$dem" --observer "$ox,$oy" --observer-height 1.7 --threads 2 -o "$work/tc.tif")"
+    done
+    tgd=$(median $gds)
+    ttc=$(median $tcs)
     tgr=$(seconds grass "$work/gdb/loc/PERMANENT" --exec sh -c "g.region raster=dem --quiet && r.viewshed -b -c -r \
         input=dem output=vs coordinates=$ox,$oy observer_elevation=1.7 refraction_coeff=0.14286 memory=4000 --quiet --overwrite")
-    ttc=$(seconds "$tc" viewshed "$dem" --observer "$ox,$oy" --observer-height 1.7 --threads 2 -o "$work/tc.tif")
     g r.out.gdal input=vs output="$work/gr.tif" format=GTiff type=Byte --quiet --overwrite
     row=$(/usr/bin/python3 - "$work" "$dem" "$ox" "$oy" <<'PY'
 import math, sys

@@ -14,6 +14,7 @@
 #include "tracer/terrain/insolation.h"
 #include "tracer/terrain/maps.h"
 #include "tracer/terrain/memory_model.h"
+#include "tracer/terrain/sight_bounds.h"
 #include "tracer/terrain/tiled_product.h"
 
 #include <fmt/format.h>
@@ -573,10 +574,21 @@ VertexProduct viewshedProduct(const ViewshedMapOptions& o, const LoadedDem& dem,
         o.curvatureCoeff == 0.0 ? 0.0
         : dem.grid.tiled()      ? double(dem.grid.tileSource()->cacheBudgetBytes())
                                 : double(dem.grid.memoryBytes()) + 5.0 * double(dem.grid.width()) * double(dem.grid.height());
-    checkRasterJob(dem, o.dem.maxMemoryBytes, n > 1 ? 2 : 1, RasterType::Float32, loweredBytes, "the viewshed");
     // Each observer's viewshed a window at a time. Makers are kept for the whole run, unless each would hold a
     // curved copy of the grid: then one is made per window and observer, one copy at a time.
     plan->keepMakers = n == 1 || s.curvatureCoeff == 0.0;
+    // Each kept maker holds its observer's sight bounds (sight_bounds.h): while all of them together take no
+    // more than the grid itself (or one observer's alone). A maker made per window would build them for the
+    // whole grid each time, which costs more than it saves.
+    double boundsBytes = 0.0;
+    if (plan->keepMakers && !dem.grid.tiled() && o.values != ViewshedValues::Height) {
+        for (const ViewshedSettings& one : plan->observers)
+            boundsBytes += SightBounds::bytesFor(dem.grid, one.observerXM, one.observerYM);
+        if (n > 1 && boundsBytes > double(dem.grid.memoryBytes())) boundsBytes = 0.0;
+    }
+    for (ViewshedSettings& one : plan->observers) one.boundSightLines = boundsBytes > 0.0;
+    checkRasterJob(dem, o.dem.maxMemoryBytes, n > 1 ? 2 : 1, RasterType::Float32, loweredBytes + boundsBytes,
+                   "the viewshed");
     if (plan->keepMakers)
         for (size_t k = 0; k < n; ++k) plan->makers.push_back(plan->makerFor(dem.grid, k));
     const auto cumulative = [&grid = dem.grid, plan](const VertexWindow& w, const MapProgress& progress) {
