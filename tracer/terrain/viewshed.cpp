@@ -101,6 +101,10 @@ std::function<MapRaster(const VertexWindow&, const MapProgress&)> viewshedMaker(
                 const double clear = bounds->clearBefore(key, slope) / horizontal;
                 seen = clear >= end || !occluded(*g, Ray{eye, d}, {clear, end}, s.method);
             }
+        } else if (s.method == CellMethod::Nearest) {
+            // A walk that starts inside a cell asks whether it starts under the bilinear surface, which is not
+            // the flat square's: the line is walked whole.
+            seen = !occluded(*g, Ray{eye, d}, {0.0, end}, s.method);
         } else {
             // The last few cells before the target are asked first: a target hidden by the ground around it (the
             // common case far from the eye) is found there without walking the whole line.

@@ -1,6 +1,7 @@
 // The slope bounds around an eye (tracer/terrain/sight_bounds.h) against the surface itself, sampled densely
 // along sight lines; and the viewshed they speed up against walking every sight line whole.
 #include "heightfield/fractal_terrain.h"
+#include "heightfield/horizon.h"
 #include "heightfield/traversal.h"
 #include "loaders/dem_loader.h"
 #include "tracer/terrain/maps.h"
@@ -9,10 +10,12 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
 #include <string>
+#include <vector>
 
 using namespace terracast;
 
@@ -165,6 +168,10 @@ TEST_CASE("Viewsheds settled by the sight bounds equal walking every sight line 
                                CellMethod::Bilinear, ViewshedValues::Angle},
                           Case{"landfire-storm-lake-mt-utm12n-int16-small-nodata.tif", 0.8, 0.1, 1.7, 0.0,
                                CellMethod::Triangles, ViewshedValues::Visible},
+                          Case{"landfire-storm-lake-mt-utm12n-int16-small-nodata.tif", 0.5, 0.5, 3.0, 0.85714,
+                               CellMethod::Nearest, ViewshedValues::Visible},
+                          Case{"srtm3-n43e007-nice-maritime-alps-coast-geographic-int16.tif", 0.4, 0.6, 30.0, 0.85714,
+                               CellMethod::BilinearDouble, ViewshedValues::Angle},
                           Case{"N44W072.srtm3-white-mountains-nh.hgt", 0.6967, 0.2706, 1.7, 0.85714,
                                CellMethod::Bilinear, ViewshedValues::Visible}}) {
         const LoadedDem dem = loadDem(samples + c.file);
@@ -186,4 +193,141 @@ TEST_CASE("Viewsheds settled by the sight bounds equal walking every sight line 
         CHECK(seen > 1000);
         CHECK(seen < int64_t(walked.values.size()) - 1000);
     }
+}
+
+namespace {
+
+// Each vertex's verdict by the occlusion walk of its whole sight line, as the viewshed defines it: from the eye
+// `s.observerHeightM` above the surface (of the grid lowered for the curved earth) to a hundredth of a cell short
+// of the target.
+std::vector<float> wholeWalks(const HeightGrid& grid, const ViewshedSettings& s) {
+    const HeightGrid* g = &grid;
+    HeightGrid curved;
+    if (s.curvatureCoeff != 0.0) {
+        HeightTransform t;
+        t.curvatureCoeff = s.curvatureCoeff;
+        t.earthRadiusM = s.earthRadiusM;
+        t.observerXM = s.observerXM;
+        t.observerYM = s.observerYM;
+        curved = grid.transformed(t);
+        g = &curved;
+    }
+    const glm::dvec3 eye = surfacePointAt(*g, s.observerXM, s.observerYM, s.method)->pointM +
+                           glm::dvec3(0.0, 0.0, s.observerHeightM);
+    const double endGap = 0.01 * std::min(g->cellSizeXM(), g->cellSizeYM());
+    std::vector<float> out(size_t(g->width() * g->height()), std::numeric_limits<float>::quiet_NaN());
+    for (int64_t j = 0; j < g->height(); ++j)
+        for (int64_t i = 0; i < g->width(); ++i) {
+            if (!g->vertexValid(i, j)) continue;
+            const glm::dvec3 d =
+                glm::dvec3(double(i) * g->cellSizeXM(), double(j) * g->cellSizeYM(), g->at(i, j) + s.targetHeightM) - eye;
+            const double len = glm::length(d);
+            out[size_t(j * g->width() + i)] =
+                len <= endGap || !occluded(*g, Ray{eye, d}, {0.0, 1.0 - endGap / len}, s.method) ? 1.0f : 0.0f;
+        }
+    return out;
+}
+
+int64_t differences(const std::vector<float>& a, const std::vector<float>& b) {
+    int64_t n = 0;
+    for (size_t k = 0; k < a.size(); ++k) n += !(a[k] == b[k] || (std::isnan(a[k]) && std::isnan(b[k])));
+    return n;
+}
+
+}  // namespace
+
+TEST_CASE("Viewsheds with sight bounds equal whole walks: a high corner in the row where a task's rings end",
+          "[tracer][maps]") {
+    // An eye on a vertex puts rows of cells exactly at ring boundaries. One such row holds the only corner above
+    // the eye (a spike), with a row of holes beyond it so that no neighbouring cell carries that corner: its
+    // upper bound must land in its ring whichever task fills which rings.
+    for (int64_t row : {24, 23, 20}) {
+        const int64_t w = 101, je = 100, h = je + 61;
+        std::vector<float> z(size_t(w * h), 0.0f);
+        std::vector<uint8_t> valid(size_t(w * h), 1);
+        z[size_t((je + row + 1) * w + 50)] = 5000.0f;
+        for (int64_t i = 0; i < w; ++i) valid[size_t((je + row + 2) * w + i)] = 0;
+        const HeightGrid g(w, h, 10.0, 10.0, std::move(z), std::move(valid));
+        for (CellMethod m : {CellMethod::Bilinear, CellMethod::Triangles, CellMethod::Nearest}) {
+            ViewshedSettings s;
+            s.observerXM = 500.0;
+            s.observerYM = double(je) * 10.0;
+            s.observerHeightM = 2.0;
+            s.curvatureCoeff = 0.0;
+            s.method = m;
+            const MapRaster bounded = viewshed(g, s);
+            INFO("spike row " << row << ", " << cellMethodName(m));
+            CHECK(differences(bounded.values, wholeWalks(g, s)) == 0);
+        }
+    }
+}
+
+TEST_CASE("Viewsheds with sight bounds equal whole walks: random grids, holes, eyes on vertices, grid lines and "
+          "edges, every method",
+          "[tracer][maps]") {
+    std::mt19937 rng(20261129);
+    const auto real = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
+    const auto pick = [&](int a, int b) { return std::uniform_int_distribution<int>(a, b)(rng); };
+    int64_t cases = 0, hiddenSeen = 0, visibleSeen = 0;
+    for (int it = 0; it < 120; ++it) {
+        const int64_t w = pick(20, 180), h = pick(2, 180);
+        const double cx = pick(0, 1) ? 10.0 : real(1.0, 40.0), cy = pick(0, 2) ? cx : real(1.0, 40.0);
+        std::vector<float> z(size_t(w * h));
+        const int kind = pick(0, 3);
+        for (int64_t j = 0; j < h; ++j)
+            for (int64_t i = 0; i < w; ++i)
+                z[size_t(j * w + i)] = float(kind == 0   ? real(0.0, 50.0)
+                                             : kind == 1 ? 30.0 * std::sin(double(i) * 0.3) * std::cos(double(j) * 0.2) + real(0.0, 5.0)
+                                             : kind == 2 ? (pick(0, 20) == 0 ? real(0.0, 500.0) : 0.0)
+                                                         : std::round(real(0.0, 3.0)) * 10.0);
+        std::vector<uint8_t> valid;
+        if (pick(0, 1)) {
+            valid.assign(size_t(w * h), 1);
+            for (int k = pick(0, 4); k > 0; --k) {
+                const int64_t i0 = pick(0, int(w) - 1), j0 = pick(0, int(h) - 1), hw = pick(1, 6), hh = pick(1, 6);
+                for (int64_t j = j0; j < std::min(h, j0 + hh); ++j)
+                    for (int64_t i = i0; i < std::min(w, i0 + hw); ++i) valid[size_t(j * w + i)] = 0;
+            }
+            if (pick(0, 2) == 0) {
+                const int64_t j = pick(0, int(h) - 1);
+                for (int64_t i = 0; i < w; ++i) valid[size_t(j * w + i)] = 0;
+            }
+        }
+        HeightGrid g;
+        try {
+            g = HeightGrid(w, h, cx, cy, std::move(z), std::move(valid));
+        } catch (const GridError&) {
+            continue;  // every vertex a hole
+        }
+        // Anywhere, on a vertex, on a horizontal grid line, or on the grid's south or north edge.
+        ViewshedSettings s;
+        const int where = pick(0, 4);
+        s.observerXM = where == 1 ? double(pick(0, int(w) - 1)) * cx : real(0.0, g.extentXM());
+        s.observerYM = where == 0   ? real(0.0, g.extentYM())
+                       : where == 3 ? 0.0
+                       : where == 4 ? g.extentYM()
+                                    : double(pick(0, int(h) - 1)) * cy;
+        s.observerHeightM = pick(0, 1) ? real(0.0, 3.0) : real(0.0, 200.0);
+        s.curvatureCoeff = pick(0, 1) ? 0.0 : 0.85714;
+        s.method = std::array{CellMethod::Bilinear, CellMethod::BilinearDouble, CellMethod::Triangles,
+                              CellMethod::Nearest}[size_t(pick(0, 3))];
+        s.targetHeightM = pick(0, 1) ? 0.0 : real(0.0, 5.0);
+        MapRaster bounded;
+        try {
+            bounded = viewshed(g, s);
+        } catch (const GridError&) {
+            continue;  // the observer over a hole
+        }
+        const std::vector<float> walked = wholeWalks(g, s);
+        INFO("case " << it << ": " << w << " x " << h << " cells of " << cx << " x " << cy << " m, eye at "
+                     << s.observerXM << ", " << s.observerYM << " + " << s.observerHeightM << " m, "
+                     << cellMethodName(s.method) << ", curvature " << s.curvatureCoeff);
+        CHECK(differences(bounded.values, walked) == 0);
+        ++cases;
+        hiddenSeen += std::count(walked.begin(), walked.end(), 0.0f) > 0;
+        visibleSeen += std::count(walked.begin(), walked.end(), 1.0f) > 1;
+    }
+    CHECK(cases > 90);
+    CHECK(hiddenSeen > cases / 2);
+    CHECK(visibleSeen > cases / 2);
 }
