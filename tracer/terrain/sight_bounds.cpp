@@ -39,6 +39,19 @@ int64_t wedgesAt(int64_t k) { return std::max(kLeastWedges, kWedges0 << k); }
 
 double diamondKey(double dx, double dy) { return SightBounds::azimuthKey(dx, dy); }
 
+// The nearest and farthest |t| over [a0, a1].
+struct Span {
+    double nearM, farM;
+};
+Span spanOf(double a0, double a1) { return {a0 > 0.0 ? a0 : a1 < 0.0 ? -a1 : 0.0, std::max(std::abs(a0), std::abs(a1))}; }
+
+// The nearest and farthest horizontal distance from the eye of a box with spans x and y, rounded outwards so that
+// the box is never placed in a ring it does not reach.
+Span distancesOf(Span x, Span y) {
+    return {std::sqrt(x.nearM * x.nearM + y.nearM * y.nearM) * (1.0 - 1e-12),
+            std::sqrt(x.farM * x.farM + y.farM * y.farM) * (1.0 + 1e-12)};
+}
+
 // A float at least (at most) v: float(v) moved outwards by more than its rounding.
 float roundUp(double v) { return std::isfinite(v) ? float(v + std::abs(v) * 0x1p-22 + 1e-30) : float(v); }
 float roundDown(double v) { return std::isfinite(v) ? float(v - std::abs(v) * 0x1p-22 - 1e-30) : float(v); }
@@ -108,8 +121,7 @@ void SightBounds::addCells(int64_t ringA, int64_t ringB) {
     const auto addRun = [&](int64_t j, int64_t ia, int64_t ib) {
         if (ia >= ib) return;
         const double ay0 = double(j) * cy - ey, ay1 = double(j + 1) * cy - ey;
-        const double nearY = ay0 > 0.0 ? ay0 : ay1 < 0.0 ? -ay1 : 0.0;
-        const double farY = std::max(std::abs(ay0), std::abs(ay1));
+        const Span y = spanOf(ay0, ay1);
         const size_t n = size_t(ib - ia) + 1;
         keyLow.resize(n);
         keyHigh.resize(n);
@@ -128,11 +140,8 @@ void SightBounds::addCells(int64_t ringA, int64_t ringB) {
         for (int64_t i = ia; i < ib; ++i) {
             const size_t k = size_t(i - ia);
             const double ax0 = double(i) * cx - ex, ax1 = double(i + 1) * cx - ex;
-            const double nearX = ax0 > 0.0 ? ax0 : ax1 < 0.0 ? -ax1 : 0.0;
-            const double farX = std::max(std::abs(ax0), std::abs(ax1));
-            // Rounded outwards, so that a cell is never placed in a ring it does not reach.
-            const double minD = std::sqrt(nearX * nearX + nearY * nearY) * (1.0 - 1e-12);
-            const double maxD = std::sqrt(farX * farX + farY * farY) * (1.0 + 1e-12);
+            const Span x = spanOf(ax0, ax1), d = distancesOf(x, y);
+            const double minD = d.nearM, maxD = d.farM;
             const int64_t r0 = int64_t(minD / ringM_), r1 = std::min(rings_ - 1, int64_t(maxD / ringM_));
             if (r1 < ringA || r0 >= ringB) continue;
             // The slope range of the cell's surface, widened by the tolerance.
@@ -153,15 +162,14 @@ void SightBounds::addCells(int64_t ringA, int64_t ringB) {
                 hi = -kInf;
             }
             const double keys[4] = {keyLow[k], keyLow[k + 1], keyHigh[k], keyHigh[k + 1]};
-            place(ringA, ringB, r0, r1, nearX == 0.0 && nearY == 0.0, axisRow && ax1 > 0.0, keys, valid, roundUp(hi),
+            place(ringA, ringB, r0, r1, x.nearM == 0.0 && y.nearM == 0.0, axisRow && ax1 > 0.0, keys, valid, roundUp(hi),
                   roundDown(lo));
         }
     };
     // The columns of a band of rows [ya, yb) (metres from the eye) that reach rings [ringA, ringB): [i0, skip0)
     // and [skip1, i1). False when none does.
     const auto columns = [&](double ya, double yb, int64_t& i0, int64_t& i1, int64_t& skip0, int64_t& skip1) {
-        const double nearY = ya > 0.0 ? ya : yb < 0.0 ? -yb : 0.0;
-        const double farY = std::max(std::abs(ya), std::abs(yb));
+        const auto [nearY, farY] = spanOf(ya, yb);
         // A band is passed over only when all its cells start at `outer` or beyond, their nearest distance
         // rounded down as below.
         if (nearY * (1.0 - 1e-9) >= outer) return false;
@@ -186,8 +194,7 @@ void SightBounds::addCells(int64_t ringA, int64_t ringB) {
     const double blockFrom = kBlockRings * ringM_;
     const auto addBlocks = [&](int64_t j, int64_t ia, int64_t ib) {
         const double ay0 = double(j) * cy - ey, ay2 = double(j + 2) * cy - ey;
-        const double nearY = ay0 > 0.0 ? ay0 : ay2 < 0.0 ? -ay2 : 0.0;
-        const double farY = std::max(std::abs(ay0), std::abs(ay2));
+        const Span y = spanOf(ay0, ay2);
         const bool axisBand = ay0 <= 0.0 && ay2 >= 0.0;
         for (int64_t i = ia; i < ib; i += 2) {
             if (i + 2 > ib) {
@@ -202,10 +209,8 @@ void SightBounds::addCells(int64_t ringA, int64_t ringB) {
                 continue;
             }
             const double ax0 = double(i) * cx - ex, ax2 = double(i + 2) * cx - ex;
-            const double nearX = ax0 > 0.0 ? ax0 : ax2 < 0.0 ? -ax2 : 0.0;
-            const double farX = std::max(std::abs(ax0), std::abs(ax2));
-            const double minD = std::sqrt(nearX * nearX + nearY * nearY) * (1.0 - 1e-12);
-            const double maxD = std::sqrt(farX * farX + farY * farY) * (1.0 + 1e-12);
+            const Span d = distancesOf(spanOf(ax0, ax2), y);
+            const double minD = d.nearM, maxD = d.farM;
             const int64_t r0 = int64_t(minD / ringM_), r1 = std::min(rings_ - 1, int64_t(maxD / ringM_));
             if (r1 < ringA || r0 >= ringB) continue;
             double zMax = -kInf, zMin = kInf;
@@ -226,7 +231,7 @@ void SightBounds::addCells(int64_t ringA, int64_t ringB) {
     const auto addPair = [&](int64_t j, int64_t ia, int64_t ib) {
         if (ia >= ib) return;
         const double ay0 = double(j) * cy - ey, ay2 = double(j + 2) * cy - ey;
-        const double nearY = ay0 > 0.0 ? ay0 : ay2 < 0.0 ? -ay2 : 0.0;
+        const double nearY = spanOf(ay0, ay2).nearM;
         // Blocks wholly farther than blockFrom: beyond [n0, n1) (all columns when the band is).
         int64_t n0 = ia, n1 = ia;
         if (nearY < blockFrom) {
@@ -328,17 +333,14 @@ void SightBounds::placeNearCell(int64_t ringA, int64_t ringB, double ax0, double
             const double v0 = double(b) / kSplit, v1 = double(b + 1) / kSplit;
             const double top = std::max({z(u0, v0), z(u1, v0), z(u0, v1), z(u1, v1)});
             const double bx0 = ax0 + u0 * cx, bx1 = ax0 + u1 * cx, by0 = ay0 + v0 * cy, by1 = ay0 + v1 * cy;
-            const double nx = bx0 > 0.0 ? bx0 : bx1 < 0.0 ? -bx1 : 0.0;
-            const double ny = by0 > 0.0 ? by0 : by1 < 0.0 ? -by1 : 0.0;
-            const double fx = std::max(std::abs(bx0), std::abs(bx1)), fy = std::max(std::abs(by0), std::abs(by1));
-            const double minD = std::sqrt(nx * nx + ny * ny) * (1.0 - 1e-12);
-            const double maxD = std::sqrt(fx * fx + fy * fy) * (1.0 + 1e-12);
+            const Span x = spanOf(bx0, bx1), y = spanOf(by0, by1), d = distancesOf(x, y);
+            const double minD = d.nearM, maxD = d.farM;
             const int64_t r0 = int64_t(minD / ringM_);
             if (r0 < ringA || r0 >= ringB) continue;  // its upper bound goes to ring r0 only
             const double up = top + kSubTolerance * toleranceM_ - ez;
             const double hi = up > 0.0 ? (minD > 0.0 ? up / minD : kInf) : up / maxD;
             const double keys[4] = {diamondKey(bx0, by0), diamondKey(bx1, by0), diamondKey(bx0, by1), diamondKey(bx1, by1)};
-            place(ringA, ringB, r0, r0, nx == 0.0 && ny == 0.0, bx1 > 0.0 && by0 <= 0.0 && by1 >= 0.0, keys, true,
+            place(ringA, ringB, r0, r0, x.nearM == 0.0 && y.nearM == 0.0, bx1 > 0.0 && by0 <= 0.0 && by1 >= 0.0, keys, true,
                   roundUp(hi), std::numeric_limits<float>::infinity());
         }
 }
