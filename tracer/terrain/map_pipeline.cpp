@@ -581,9 +581,10 @@ VertexProduct viewshedProduct(const ViewshedMapOptions& o, const LoadedDem& dem,
     // more than the grid itself (or one observer's alone). A maker made per window would build them for the
     // whole grid each time, which costs more than it saves.
     double boundsBytes = 0.0;
-    if (plan->keepMakers && !dem.grid.tiled() && o.values != ViewshedValues::Height) {
+    if (plan->keepMakers) {
         for (const ViewshedSettings& one : plan->observers)
-            boundsBytes += SightBounds::bytesFor(dem.grid, one.observerXM, one.observerYM);
+            if (viewshedUsesSightBounds(dem.grid, one))
+                boundsBytes += SightBounds::bytesFor(dem.grid, one.observerXM, one.observerYM);
         if (n > 1 && boundsBytes > double(dem.grid.memoryBytes())) boundsBytes = 0.0;
     }
     for (ViewshedSettings& one : plan->observers) one.boundSightLines = boundsBytes > 0.0;

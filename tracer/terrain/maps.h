@@ -139,6 +139,10 @@ MapRaster viewshed(const HeightGrid& grid, const ViewshedSettings& settings);
 // which must outlive it; throws as viewshed does.
 std::function<MapRaster(const VertexWindow&, const MapProgress&)> viewshedMaker(const HeightGrid& grid, const ViewshedSettings& settings);
 
+// True when viewshedMaker builds sight bounds for `settings` on `grid`: asked for, a grid held whole (the table
+// reads every cell), and values other than heights (which need each line's horizon).
+bool viewshedUsesSightBounds(const HeightGrid& grid, const ViewshedSettings& settings);
+
 // Settings of the top-down shaded relief.
 struct MapViewSettings {
     double scale = 1.0;                // output pixels per cell along each axis

@@ -13,6 +13,8 @@ namespace terracast {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// Relative margin by which intervals of columns and of keys are widened against rounding.
+constexpr double kEps = 1e-9;
 // Level 0 holds rings [0, 8); level k >= 1 rings [8 * 2^(k-1), 8 * 2^k).
 constexpr int64_t kFirstRings = 8;
 // Cells nearer than kFinerRings rings are bounded from above by kSplit x kSplit sub-squares each (bilinear
@@ -36,8 +38,6 @@ constexpr int64_t kWedges0 = 32;
 constexpr int64_t kLeastWedges = 256;
 
 int64_t wedgesAt(int64_t k) { return std::max(kLeastWedges, kWedges0 << k); }
-
-double diamondKey(double dx, double dy) { return SightBounds::azimuthKey(dx, dy); }
 
 // The nearest and farthest |t| over [a0, a1].
 struct Span {
@@ -113,7 +113,6 @@ void SightBounds::addCells(int64_t ringA, int64_t ringB) {
     const double cx = g.cellSizeXM(), cy = g.cellSizeYM();
     const double ex = eye_.x, ey = eye_.y, ez = eye_.z, tol = toleranceM_;
     const double inner = double(ringA) * ringM_, outer = double(ringB) * ringM_;
-    constexpr double kEps = 1e-9;
     // The keys and heights of two rows of vertices over the columns at hand.
     std::vector<double> keyLow, keyHigh;
     std::vector<float> zLow, zHigh;
@@ -130,8 +129,8 @@ void SightBounds::addCells(int64_t ringA, int64_t ringB) {
         for (size_t k = 0; k < n; ++k) {
             const int64_t i = ia + int64_t(k);
             const double ax = double(i) * cx - ex;
-            keyLow[k] = diamondKey(ax, ay0);
-            keyHigh[k] = diamondKey(ax, ay1);
+            keyLow[k] = azimuthKey(ax, ay0);
+            keyHigh[k] = azimuthKey(ax, ay1);
             zLow[k] = g.at(i, j);
             zHigh[k] = g.at(i, j + 1);
         }
@@ -223,7 +222,7 @@ void SightBounds::addCells(int64_t ringA, int64_t ringB) {
             const double up = zMax + tol - ez, down = zMin - tol - ez;
             const double hi = up > 0.0 ? up / minD : up / maxD;
             const double lo = down >= 0.0 ? down / maxD : down / minD;
-            const double keys[4] = {diamondKey(ax0, ay0), diamondKey(ax2, ay0), diamondKey(ax0, ay2), diamondKey(ax2, ay2)};
+            const double keys[4] = {azimuthKey(ax0, ay0), azimuthKey(ax2, ay0), azimuthKey(ax0, ay2), azimuthKey(ax2, ay2)};
             place(ringA, ringB, r0, r1, false, axisBand && ax2 > 0.0, keys, true, roundUp(hi), roundDown(lo));
         }
     };
@@ -267,7 +266,6 @@ void SightBounds::addCells(int64_t ringA, int64_t ringB) {
 
 void SightBounds::place(int64_t ringA, int64_t ringB, int64_t r0, int64_t r1, bool all, bool wraps,
                         const double keys[4], bool withHigh, float hi, float lo) {
-    constexpr double kEps = 1e-9;
     if (r0 == r1 && !all && !wraps && r0 >= ringA && r0 < ringB) {
         // The common case, a cell within one ring away from the +x axis.
         Level& l = levels_[size_t(levelOfRing(r0))];
@@ -339,7 +337,7 @@ void SightBounds::placeNearCell(int64_t ringA, int64_t ringB, double ax0, double
             if (r0 < ringA || r0 >= ringB) continue;  // its upper bound goes to ring r0 only
             const double up = top + kSubTolerance * toleranceM_ - ez;
             const double hi = up > 0.0 ? (minD > 0.0 ? up / minD : kInf) : up / maxD;
-            const double keys[4] = {diamondKey(bx0, by0), diamondKey(bx1, by0), diamondKey(bx0, by1), diamondKey(bx1, by1)};
+            const double keys[4] = {azimuthKey(bx0, by0), azimuthKey(bx1, by0), azimuthKey(bx0, by1), azimuthKey(bx1, by1)};
             place(ringA, ringB, r0, r0, x.nearM == 0.0 && y.nearM == 0.0, bx1 > 0.0 && by0 <= 0.0 && by1 >= 0.0, keys, true,
                   roundUp(hi), std::numeric_limits<float>::infinity());
         }
@@ -397,12 +395,6 @@ double SightBounds::clearBefore(double key, double slope) const {
         }
     }
     return kInf;
-}
-
-size_t SightBounds::bytes() const {
-    size_t b = 0;
-    for (const Level& l : levels_) b += (l.highest.capacity() + l.lowest.capacity()) * sizeof(float);
-    return b;
 }
 
 }  // namespace terracast

@@ -58,7 +58,6 @@ public:
         return l.lowest[size_t((r - l.ring0) * l.wedges + w)];
     }
 
-    size_t bytes() const;
 
 private:
     struct Level {

@@ -31,6 +31,10 @@ bool bilinearSurface(CellMethod m) {
 
 }  // namespace
 
+bool viewshedUsesSightBounds(const HeightGrid& grid, const ViewshedSettings& s) {
+    return s.boundSightLines && s.values != ViewshedValues::Height && !grid.tiled();
+}
+
 std::function<MapRaster(const VertexWindow&, const MapProgress&)> viewshedMaker(const HeightGrid& grid, const ViewshedSettings& s) {
     // Earth curvature (less refraction) lowers everything by coeff * d^2 / (2 R) with distance d from the
     // observer: trace in a copy of the grid with that drop applied.
@@ -55,9 +59,9 @@ std::function<MapRaster(const VertexWindow&, const MapProgress&)> viewshedMaker(
     static constexpr double kNearTargetCells = 8.0;
     const bool visibleOnly = s.values == ViewshedValues::Visible;
     // Most sight lines are settled by bounds on the surface's slope around the eye (sight_bounds.h); the rest are
-    // walked from where those bounds stop. Not for tiled grids, which they would read whole.
+    // walked from where those bounds stop.
     std::shared_ptr<const SightBounds> bounds;
-    if (s.boundSightLines && s.values != ViewshedValues::Height && !g->tiled())
+    if (viewshedUsesSightBounds(*g, s))
         bounds = std::make_shared<const SightBounds>(*g, eye, kBoundsTolerance * grazingToleranceM(*g),
                                                      bilinearSurface(s.method), s.threads);
     return [g, curved, bounds, s, eye, cellM, endGap, visibleOnly](const VertexWindow& window, const MapProgress& progress) {
@@ -113,6 +117,7 @@ std::function<MapRaster(const VertexWindow&, const MapProgress&)> viewshedMaker(
                    (nearTarget == 0.0 || !occluded(*g, Ray{eye, d}, {0.0, nearTarget}, s.method));
         }
         if (visibleOnly) return seen ? 1.0f : 0.0f;
+        // The angle from hypot, as before the bounds: the raster's bits do not depend on them.
         return seen ? float(degrees(std::atan2(d.z, std::hypot(d.x, d.y)))) : kNaN;
     });
     };
