@@ -45,7 +45,29 @@ void parallelRanges(int64_t n, int64_t workPerItem, F&& f) {
     for (auto& thread : pool) thread.join();
 }
 
-void setBit(std::vector<uint64_t>& bits, int64_t k) { bits[size_t(k) >> 6] |= uint64_t(1) << (k & 63); }
+// One bit per flag, word by word in parallel (each word is written by one thread).
+std::vector<uint64_t> packFlags(const std::vector<uint8_t>& flags) {
+    const int64_t n = int64_t(flags.size());
+    std::vector<uint64_t> bits(size_t((n + 63) / 64), 0);
+    parallelRanges(int64_t(bits.size()), 64, [&](int64_t w0, int64_t w1) {
+        for (int64_t w = w0; w < w1; ++w) {
+            uint64_t word = 0;
+            const int64_t k0 = w * 64, k1 = std::min(k0 + 64, n);
+            for (int64_t k = k0; k < k1; ++k) word |= uint64_t(flags[size_t(k)] != 0) << (k - k0);
+            bits[size_t(w)] = word;
+        }
+    });
+    return bits;
+}
+
+// Bits p .. p + 63 of `bits` as one word (bit p lowest), zeros past the end.
+uint64_t bitsFrom(const std::vector<uint64_t>& bits, int64_t p) {
+    const size_t w = size_t(p) >> 6;
+    const int s = int(p & 63);
+    uint64_t word = bits[w] >> s;
+    if (s != 0 && w + 1 < bits.size()) word |= bits[w + 1] << (64 - s);
+    return word;
+}
 
 constexpr int32_t kLowestCode = std::numeric_limits<int16_t>::min();
 constexpr int32_t kHighestCode = std::numeric_limits<int16_t>::max();
@@ -76,9 +98,7 @@ HeightGrid::HeightGrid(int64_t width, int64_t height, double cellSizeXM, double 
         throw GridError("expected " + std::to_string(n) + " validity flags, got " + std::to_string(valid.size()));
     if (std::find(valid.begin(), valid.end(), uint8_t(0)) != valid.end()) {
         // Pack the flags eight to a byte; the byte-per-vertex input is released right away.
-        valid_.assign((n + 63) / 64, 0);
-        for (size_t k = 0; k < n; ++k)
-            if (valid[k] != 0) setBit(valid_, int64_t(k));
+        valid_ = packFlags(valid);
     }
     std::vector<uint8_t>().swap(valid);
     finish();
@@ -97,11 +117,7 @@ HeightGrid::HeightGrid(int64_t width, int64_t height, double cellSizeXM, double 
     if (!valid.empty() && valid.size() != n)
         throw GridError("expected " + std::to_string(n) + " validity flags, got " + std::to_string(valid.size()));
     const bool holes = std::find(valid.begin(), valid.end(), uint8_t(0)) != valid.end();
-    if (holes) {
-        valid_.assign((n + 63) / 64, 0);
-        for (size_t k = 0; k < n; ++k)
-            if (valid[k] != 0) setBit(valid_, int64_t(k));
-    }
+    if (holes) valid_ = packFlags(valid);
     std::vector<uint8_t>().swap(valid);
     // Which of the 65536 codes occur at valid vertices: the height range, and the only heights a re-basing must
     // carry over.
@@ -180,23 +196,49 @@ HeightGrid::HeightGrid(int64_t width, int64_t height, double cellSizeXM, double 
 }
 
 void HeightGrid::finish() {
-    nodataVertices_ = 0;
-    float lo = std::numeric_limits<float>::infinity();
-    float hi = -lo;
-    for (int64_t j = 0; j < height_; ++j) {
-        for (int64_t i = 0; i < width_; ++i) {
-            if (!vertexValid(i, j)) {
-                ++nodataVertices_;
-                continue;
+    // The height range and the holes, in parallel; the first vertex (in row order) whose height is not finite is
+    // the one reported.
+    struct Part {
+        float lo = std::numeric_limits<float>::infinity();
+        float hi = -std::numeric_limits<float>::infinity();
+        int64_t holes = 0;
+        int64_t bad = -1;
+    };
+    std::vector<Part> parts;
+    std::mutex merge;
+    parallelRanges(height_, width_, [&](int64_t j0, int64_t j1) {
+        Part p;
+        for (int64_t j = j0; j < j1 && p.bad < 0; ++j)
+            for (int64_t i = 0; i < width_; ++i) {
+                if (!vertexValid(i, j)) {
+                    ++p.holes;
+                    continue;
+                }
+                const float h = at(i, j);
+                if (!std::isfinite(h)) {
+                    p.bad = j * width_ + i;
+                    break;
+                }
+                p.lo = std::min(p.lo, h);
+                p.hi = std::max(p.hi, h);
             }
-            const float h = at(i, j);
-            if (!std::isfinite(h))
-                throw GridError("height at vertex (" + std::to_string(i) + ", " + std::to_string(j) +
-                                ") is not finite (" + std::to_string(h) + ")");
-            lo = std::min(lo, h);
-            hi = std::max(hi, h);
-        }
+        const std::lock_guard<std::mutex> lock(merge);
+        parts.push_back(p);
+    });
+    Part all;
+    for (const Part& p : parts) {
+        if (p.bad >= 0 && (all.bad < 0 || p.bad < all.bad)) all.bad = p.bad;
+        all.lo = std::min(all.lo, p.lo);
+        all.hi = std::max(all.hi, p.hi);
+        all.holes += p.holes;
     }
+    if (all.bad >= 0) {
+        const int64_t i = all.bad % width_, j = all.bad / width_;
+        throw GridError("height at vertex (" + std::to_string(i) + ", " + std::to_string(j) + ") is not finite (" +
+                        std::to_string(at(i, j)) + ")");
+    }
+    nodataVertices_ = all.holes;
+    float lo = all.lo, hi = all.hi;
     if (nodataVertices_ == 0) std::vector<uint64_t>().swap(valid_);
     countValidCells();
     // Heights of vertices that belong to no valid cell still bound the box; harmless and conservative.
@@ -210,17 +252,33 @@ void HeightGrid::finish() {
 void HeightGrid::countValidCells() {
     std::vector<uint64_t>().swap(cellValid_);
     validCells_ = cellsX() * cellsY();
-    if (!valid_.empty()) {
-        cellValid_.assign(static_cast<size_t>(cellsX() * cellsY() + 63) / 64, 0);
-        validCells_ = 0;
-        for (int64_t j = 0; j < cellsY(); ++j)
-            for (int64_t i = 0; i < cellsX(); ++i) {
-                const bool ok = vertexValid(i, j) && vertexValid(i + 1, j) && vertexValid(i, j + 1) &&
-                                vertexValid(i + 1, j + 1);
-                if (ok) setBit(cellValid_, j * cellsX() + i);
-                validCells_ += ok ? 1 : 0;
+    if (valid_.empty()) return;
+    // Cell c = j * cellsX + i is valid when its four corners are: 64 cells at a time, each run of them within one
+    // row the AND of four shifted words of vertex bits. Each thread writes whole words of its own.
+    const int64_t cells = cellsX() * cellsY();
+    cellValid_.assign(size_t((cells + 63) / 64), 0);
+    std::atomic<int64_t> count{0};
+    parallelRanges(int64_t(cellValid_.size()), 64, [&](int64_t w0, int64_t w1) {
+        int64_t mine = 0;
+        for (int64_t w = w0; w < w1; ++w) {
+            const int64_t c0 = w * 64, c1 = std::min(c0 + 64, cells);
+            uint64_t word = 0;
+            for (int64_t c = c0; c < c1;) {
+                const int64_t j = c / cellsX(), i = c - j * cellsX();
+                const int64_t run = std::min(c1 - c, cellsX() - i);
+                const int64_t v = j * width_ + i;
+                uint64_t ok = bitsFrom(valid_, v) & bitsFrom(valid_, v + 1) & bitsFrom(valid_, v + width_) &
+                              bitsFrom(valid_, v + width_ + 1);
+                if (run < 64) ok &= (uint64_t(1) << run) - 1;
+                word |= ok << (c - c0);
+                c += run;
             }
-    }
+            cellValid_[size_t(w)] = word;
+            mine += std::popcount(word);
+        }
+        count += mine;
+    });
+    validCells_ = count.load();
 }
 
 std::vector<double> int16CandidateScales(double scaleHint) {
@@ -306,17 +364,25 @@ HeightGrid HeightGrid::transformed(const HeightTransform& t) const {
         if (!source) throw GridError("this tiled grid's source cannot make a transformed copy of its heights");
         return HeightGrid(summary, cellSizeXM_, cellSizeYM_, std::move(source));
     }
-    std::vector<float> z = copyHeights();
-    std::vector<uint8_t> valid(hasNodata() ? z.size() : 0);
+    // The heights transformed straight from the storage, row bands in parallel; which vertices and cells are
+    // valid carries over.
+    std::vector<float> z = largeVector<float>(size_t(width_ * height_));
     parallelRanges(height_, width_, [&](int64_t j0, int64_t j1) {
         for (int64_t j = j0; j < j1; ++j)
             for (int64_t i = 0; i < width_; ++i) {
                 const auto k = static_cast<size_t>(j * width_ + i);
-                z[k] = t.apply(z[k], i, j, cellSizeXM_, cellSizeYM_);
-                if (!valid.empty()) valid[k] = vertexValid(i, j);
+                const float h = storage_ == HeightStorage::Int16 ? decode(codes_[k]) : heightsM_[k];
+                z[k] = t.apply(h, i, j, cellSizeXM_, cellSizeYM_);
             }
     });
-    return HeightGrid(width_, height_, cellSizeXM_, cellSizeYM_, std::move(z), std::move(valid));
+    return HeightGrid(*this, std::move(z));
+}
+
+HeightGrid::HeightGrid(const HeightGrid& lattice, std::vector<float> heightsM)
+    : width_(lattice.width_), height_(lattice.height_), cellSizeXM_(lattice.cellSizeXM_),
+      cellSizeYM_(lattice.cellSizeYM_), heightsM_(std::move(heightsM)), valid_(lattice.valid_) {
+    setLattice();
+    finish();
 }
 
 std::vector<float> HeightGrid::copyHeights() const {

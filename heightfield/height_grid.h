@@ -284,6 +284,8 @@ private:
     bool tiledCellValid(int64_t i, int64_t j) const;
     void storePyramid(std::vector<std::vector<int16_t>>& highs, std::vector<std::vector<int16_t>>& lows, int first,
                       int levels);
+    // `lattice`'s vertices, cell sizes and valid vertices with new heights (float, its storage chosen again).
+    HeightGrid(const HeightGrid& lattice, std::vector<float> heightsM);
     void finish();
     // cellValid_ and validCells_ from the vertex flags (every cell valid when there are none).
     void countValidCells();

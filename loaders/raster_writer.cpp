@@ -355,7 +355,7 @@ void TiledGeoTiffWriter::write(int64_t tx, int64_t ty, const float* values) {
     ++s.written;
 }
 
-void TiledGeoTiffWriter::commit(const std::function<bool(double)>& progress) {
+void TiledGeoTiffWriter::commit(const std::function<bool(double)>& progress, int threads) {
     State& s = *s_;
     if (s.role == Role::Follower) throw std::logic_error("TiledGeoTiffWriter::commit: the leader makes the COG");
     if (s.role == Role::Leader)
@@ -459,6 +459,8 @@ void TiledGeoTiffWriter::commit(const std::function<bool(double)>& progress) {
     options.SetNameValue("COMPRESS", "DEFLATE");
     options.SetNameValue("BLOCKSIZE", std::to_string(kTile).c_str());
     options.SetNameValue("BIGTIFF", "IF_SAFER");
+    // Blocks compressed on several threads (GDAL's NUM_THREADS), each block's stream as one thread makes it.
+    if (threads != 1) options.SetNameValue("NUM_THREADS", threads <= 0 ? "ALL_CPUS" : std::to_string(threads).c_str());
     // Overviews average measured values and colours; Byte classes and counts keep their values.
     options.SetNameValue("RESAMPLING", s.type == RasterType::Float32 || l.lastBandIsAlpha ? "AVERAGE" : "NEAREST");
     // GDAL's block cache holds what the copy reads and writes; its default (5 % of the machine's memory) would let

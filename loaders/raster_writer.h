@@ -102,8 +102,9 @@ public:
     void write(int64_t tx, int64_t ty, const float* values);
 
     // Makes the COG from the finished tiles (all of them) and removes the partial folder. `progress` hears the
-    // share done; when it returns false the copy stops and Cancelled is thrown (the tiles stay).
-    void commit(const std::function<bool(double)>& progress = {});
+    // share done; when it returns false the copy stops and Cancelled is thrown (the tiles stay). `threads`
+    // compress the COG's blocks (0: one per core); the file's bytes do not depend on how many.
+    void commit(const std::function<bool(double)>& progress = {}, int threads = 1);
 
 private:
     struct State;

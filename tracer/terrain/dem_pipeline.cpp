@@ -226,7 +226,7 @@ void renderMap(const DemRenderOptions& o, const RunListener& listener) {
         listener.at("map view");
         const auto start = std::chrono::steady_clock::now();
         VertexProduct product = mapViewProduct(m, dem);
-        const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
+        const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), o.threads, listener);
         tellRasterSummary(listener, "map view", o.output, count, count.rays, "sun and sky rays", start);
         return;
     }

@@ -234,7 +234,7 @@ void writeShadowMap(const ShadowMapOptions& o, const RunListener& listener) {
                    o.sunTimes.empty() ? std::string("a shadow mask") : fmt::format("{} shadow bands", product.bands));
     listener.at("shadow");
     const auto start = std::chrono::steady_clock::now();
-    const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
+    const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), o.threads, listener);
     const bool disc = o.sunTimes.empty() && o.sunSizeDeg != 0.0;
     tellRasterSummary(listener, o.sunTimes.empty() ? "shadow mask" : "shadow masks", o.output, count,
                       count.valid * (disc ? kSunDiscSamples : 1), "shadow walks", start);
@@ -285,7 +285,7 @@ void writeHorizonMap(const HorizonMapOptions& o, const RunListener& listener) {
     VertexProduct product = horizonProduct(o, dem);
     checkRasterJob(dem, o.dem.maxMemoryBytes, product.bands, RasterType::Float32, 0.0,
                    fmt::format("{} horizon bands", product.bands));
-    const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
+    const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), o.threads, listener);
     tellRasterSummary(listener, "horizon angles", o.output, count, count.rays, "horizon walks", start);
 }
 
@@ -334,7 +334,7 @@ void writeSkyViewMap(const SkyViewMapOptions& o, const RunListener& listener) {
     listener.at("svf");
     const auto start = std::chrono::steady_clock::now();
     VertexProduct product = skyViewProduct(o, dem);
-    const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
+    const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), o.threads, listener);
     listener.tell(fmt::format("sky-view factor and openness: {} directions, search radius {:.1f} m", o.directions,
                               skyViewRadius(o, dem.grid)));
     tellRasterSummary(listener, "sky view", o.output, count, count.width * count.height * 2 * o.directions,
@@ -478,7 +478,7 @@ void writeInsolationMap(const InsolationMapOptions& o, const RunListener& listen
     checkRasterJob(dem, o.dem.maxMemoryBytes, kInsolationBands, RasterType::Float32, 0.0, "insolation bands");
     listener.at("insolation");
     const auto start = std::chrono::steady_clock::now();
-    const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
+    const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), o.threads, listener);
     tellRasterSummary(listener, "insolation", o.output, count, count.width * count.height * up,
                       "vertex-sun positions", start);
 }
@@ -645,7 +645,7 @@ void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) 
     listener.at("viewshed");
     const auto start = std::chrono::steady_clock::now();
     const bool many = !o.observersFile.empty();
-    const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), listener);
+    const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), o.threads, listener);
     if (many) listener.tell(fmt::format("{} observers from {}", n, o.observersFile));
     tellRasterSummary(listener, many ? "cumulative viewshed" : "viewshed", o.output, count, count.valid * n,
                       "sight lines", start);

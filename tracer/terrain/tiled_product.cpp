@@ -71,7 +71,7 @@ int64_t computeVertexProduct(const HeightGrid& grid, const VertexProduct& produc
 // (docs/architecture.md, "Tiled outputs"): NaN becomes `noData`; with `resume` the tiles an interrupted run of
 // the same job finished are kept. The next tile is computed while the last one is written.
 ProductCount writeVertexProduct(const std::string& path, bool resume, const LoadedDem& dem, VertexProduct product,
-                                const RunListener& listener) {
+                                int threads, const RunListener& listener) {
     RasterLayout layout;
     layout.width = dem.grid.width();
     layout.height = dem.grid.height();
@@ -176,7 +176,7 @@ ProductCount writeVertexProduct(const std::string& path, bool resume, const Load
     writer.commit([&](double f) {
         if (listener.progress) listener.progress(f, count.rays);
         return true;
-    });
+    }, threads);
     return count;
 }
 

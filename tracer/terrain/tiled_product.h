@@ -50,9 +50,9 @@ struct ProductCount {
 // Writes a per-vertex product on the DEM's own grid as a COG, computed and written an output tile at a time:
 // NaN becomes `noData`; with `resume` the tiles an interrupted run of the same job finished are kept. The next
 // tile is computed while the last one is written. In a launch of several ranks every rank computes the tiles it
-// draws from a shared count, and the leader makes the COG.
+// draws from a shared count, and the leader makes the COG, compressing its blocks on `threads` (0: every core).
 ProductCount writeVertexProduct(const std::string& path, bool resume, const LoadedDem& dem, VertexProduct product,
-                                const RunListener& listener);
+                                int threads, const RunListener& listener);
 
 // A per-vertex product computed whole into memory, holding the samples its GeoTIFF holds: `out` has room for
 // width x height x bands samples of product.type (uint8_t or float), rows north first, bands interleaved by
