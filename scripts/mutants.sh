@@ -1,7 +1,8 @@
 #!/bin/sh
 # The mutation check: plants each bug of scripts/mutants.txt in turn (one plausible slip per subsystem: a flipped
 # sign, sine for cosine, an off-by-one bound, a dropped nodata test, a wrong exponent), rebuilds, runs the tests
-# meant to catch it, and restores the file. Fails, naming them, if any planted bug survives (its tests pass).
+# meant to catch it (stopping at the first that fails), and restores the file. Fails, naming them, if any planted
+# bug survives (its tests pass).
 #   scripts/mutants.sh [BUILD_DIR] [--sample N]   (N mutants chosen by the commit, so successive commits rotate)
 # The build folder must be configured; it is rebuilt clean at the end.
 set -eu
@@ -44,7 +45,8 @@ for m in mutants:
         if build_all() != 0:
             print(f"caught (does not build): {m['name']}", flush=True)
             continue
-        r = subprocess.run(["ctest", "--test-dir", build, "-j2", "--timeout", "600", "-R", m["tests"]],
+        # A caught bug needs one failing test: the rest are not run (a survivor runs them all).
+        r = subprocess.run(["ctest", "--test-dir", build, "-j2", "--timeout", "600", "--stop-on-failure", "-R", m["tests"]],
                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         ran = re.search(r"tests passed, (\d+) tests failed out of (\d+)", r.stdout)
         if ran is None or ran.group(2) == "0":
@@ -53,7 +55,7 @@ for m in mutants:
             survivors.append(m["name"])
             print(f"SURVIVED: {m['name']} ({ran.group(2)} tests ran)", flush=True)
         else:
-            print(f"caught: {m['name']} ({ran.group(1)} of {ran.group(2)} tests failed)", flush=True)
+            print(f"caught: {m['name']} ({ran.group(1)} of the first {ran.group(2)} tests run failed)", flush=True)
     finally:
         path.write_text(text)
 if build_all() != 0:

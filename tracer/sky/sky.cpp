@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <map>
 #include <mutex>
 
@@ -39,6 +40,32 @@ std::shared_ptr<const TransmittanceTable> sharedTransmittanceTable(const Atmosph
     return entry;
 }
 
+namespace {
+
+// The sky's tables for one atmosphere, viewer altitude and sun. The last two made are kept: a scene's single
+// pixel traces (tracePixel, `scene --debug-pixel`) each make a Sky for the same viewer and sun, and building
+// the tables (a few tens of milliseconds) would dwarf tracing the pixel.
+std::shared_ptr<const SkyTables> sharedSkyTables(const std::shared_ptr<const TransmittanceTable>& transmittance,
+                                                 double viewerAltitudeM, const glm::dvec3& sun) {
+    struct Entry {
+        const TransmittanceTable* transmittance;
+        double altitudeM;
+        glm::dvec3 sun;
+        std::shared_ptr<const SkyTables> tables;
+    };
+    static std::mutex mutex;
+    static std::deque<Entry> recent;
+    std::lock_guard lock(mutex);
+    for (const Entry& e : recent)
+        if (e.transmittance == transmittance.get() && e.altitudeM == viewerAltitudeM && e.sun == sun) return e.tables;
+    auto tables = std::make_shared<const SkyTables>(transmittance, viewerAltitudeM, sun);
+    recent.push_front({transmittance.get(), viewerAltitudeM, sun, tables});
+    if (recent.size() > 2) recent.pop_back();
+    return tables;
+}
+
+}  // namespace
+
 Sky::Sky(const SkyDescription& description, const std::optional<SkySun>& sun, double viewerAltitudeM)
     : d_(description), viewerAltitudeM_(viewerAltitudeM) {
     if (d_.kind == SkyKind::Physical) {
@@ -48,7 +75,7 @@ Sky::Sky(const SkyDescription& description, const std::optional<SkySun>& sun, do
         const glm::dvec3 zenith = transmittance_->toTop(a.earthRadiusM, 1.0);
         whiteBalance_ = glm::vec3(1.0 / zenith);
         if (sun) {
-            tables_ = std::make_unique<SkyTables>(transmittance_, viewerAltitudeM, sun->direction);
+            tables_ = sharedSkyTables(transmittance_, viewerAltitudeM, sun->direction);
             skyScale_ = float(kPi) * whiteBalance_ * sun->irradiance;
         }
     }

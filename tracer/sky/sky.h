@@ -82,7 +82,7 @@ private:
     SkyDescription d_;
     double viewerAltitudeM_ = 0.0;
     std::shared_ptr<const TransmittanceTable> transmittance_;
-    std::unique_ptr<SkyTables> tables_;
+    std::shared_ptr<const SkyTables> tables_;
     glm::vec3 skyScale_{0.0f};      // physical: pi x white balance x the sun's irradiance
     glm::vec3 whiteBalance_{1.0f};  // physical: 1 / transmittance of a zenith sun at sea level
     float ambientScale_ = 0.0f;

@@ -146,3 +146,34 @@ TEST_CASE("Sky-visibility rays are traced only when the sky has light to give", 
     d.sky.ambient = 0.0f;
     CHECK(render(d).skyVisibility == 0);
 }
+
+TEST_CASE("Skies for another sun, viewer altitude or haze get their own tables, however often they are made",
+          "[tracer][sky]") {
+    // Each sky against tables built here from scratch, by the ratio of its radiance in several directions (the
+    // sky's own scale, its white balance times the sun's irradiance, cancels).
+    struct Case {
+        glm::dvec3 sun;
+        double altitudeM;
+        double haze;
+    };
+    const std::vector<Case> cases{{fromAngles(200.0, 30.0), 500.0, 1.0}, {fromAngles(90.0, 8.0), 500.0, 1.0},
+                                  {fromAngles(200.0, 30.0), 3000.0, 1.0}, {fromAngles(200.0, 30.0), 500.0, 4.0}};
+    const std::vector<glm::dvec3> dirs{fromAngles(0.0, 60.0), fromAngles(120.0, 5.0), fromAngles(210.0, 25.0),
+                                       fromAngles(300.0, 1.0), fromAngles(45.0, -20.0)};
+    for (int round = 0; round < 2; ++round)
+        for (const Case& c : cases) {
+            SkyDescription d = physical();
+            d.haze = c.haze;
+            const Sky sky(d, SkySun{c.sun, glm::vec3(1.0f)}, c.altitudeM);
+            AtmosphereParameters a;
+            a.haze = c.haze;
+            const SkyTables fresh(std::make_shared<const TransmittanceTable>(a), c.altitudeM, c.sun);
+            const glm::vec3 skyBase = sky.radiance(dirs[0]), freshBase = fresh.radiance(dirs[0]);
+            for (const glm::dvec3& dir : dirs) {
+                INFO("round " << round << ", sun z " << c.sun.z << ", altitude " << c.altitudeM << " m, haze " << c.haze
+                              << ", direction z " << dir.z);
+                const glm::vec3 got = sky.radiance(dir) / skyBase, want = fresh.radiance(dir) / freshBase;
+                for (int k = 0; k < 3; ++k) CHECK(got[k] == Approx(want[k]).epsilon(1e-5));
+            }
+        }
+}
