@@ -29,6 +29,11 @@ for line in (here / "scripts/mutants.txt").read_text().splitlines():
         mutants.append(cur)
     else:
         cur[key] = value.replace("\\n", "\n")
+# Every entry must still apply, sampled or not, so that a change to the code cannot leave one behind unnoticed.
+for m in mutants:
+    count = (here / m["file"]).read_text().count(m["from"])
+    if count != 1:
+        sys.exit(f"mutants.txt: '{m['name']}': the text to replace occurs {count} times in {m['file']}")
 if sample > 0:
     start = int(seed, 16) % len(mutants) if re.fullmatch("[0-9a-f]+", seed) else 0
     mutants = [mutants[(start + k) % len(mutants)] for k in range(min(sample, len(mutants)))]
