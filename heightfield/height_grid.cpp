@@ -370,9 +370,7 @@ HeightGrid HeightGrid::transformed(const HeightTransform& t) const {
     parallelRanges(height_, width_, [&](int64_t j0, int64_t j1) {
         for (int64_t j = j0; j < j1; ++j)
             for (int64_t i = 0; i < width_; ++i) {
-                const auto k = static_cast<size_t>(j * width_ + i);
-                const float h = storage_ == HeightStorage::Int16 ? decode(codes_[k]) : heightsM_[k];
-                z[k] = t.apply(h, i, j, cellSizeXM_, cellSizeYM_);
+                z[static_cast<size_t>(j * width_ + i)] = t.apply(at(i, j), i, j, cellSizeXM_, cellSizeYM_);
             }
     });
     return HeightGrid(*this, std::move(z));

@@ -43,8 +43,6 @@ survivors = []
 for m in mutants:
     path = here / m["file"]
     text = path.read_text()
-    if text.count(m["from"]) != 1:
-        sys.exit(f"mutants.txt: '{m['name']}': the text to replace occurs {text.count(m['from'])} times in {m['file']}")
     try:
         path.write_text(text.replace(m["from"], m["to"]))
         if build_all() != 0:
