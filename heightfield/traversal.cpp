@@ -103,6 +103,12 @@ bool occluded(const HeightGrid& grid, const Ray& ray, Interval interval, CellMet
     return dispatch(grid, ray, interval, method, true, counters, traversal, nullptr);
 }
 
+std::optional<HeightFieldHit> firstBlock(const HeightGrid& grid, const Ray& ray, Interval interval, CellMethod method) {
+    std::optional<HeightFieldHit> hit(std::in_place);
+    if (!dispatch(grid, ray, interval, method, true, nullptr, Traversal::Pyramid, &*hit)) hit.reset();
+    return hit;
+}
+
 void intersectBundle(const HeightGrid& grid, std::span<const Ray> rays, Interval interval, CellMethod method,
                      std::span<std::optional<HeightFieldHit>> hits, TraceCounters* counters, Traversal traversal) {
     if (grid.tiled()) return tiled_kernels::traceBundle(grid, rays, interval, method, hits, counters, traversal);

@@ -70,6 +70,10 @@ std::optional<HeightFieldHit> intersect(const HeightGrid& grid, const Ray& ray, 
 bool occluded(const HeightGrid& grid, const Ray& ray, Interval interval, CellMethod method,
               TraceCounters* counters = nullptr, Traversal traversal = Traversal::Pyramid);
 
+// The same walk as occluded, which also tells where it found the ray blocked: the point of the first blocking
+// cell (its entry for a ray that comes in under the surface), or none when occluded would return false.
+std::optional<HeightFieldHit> firstBlock(const HeightGrid& grid, const Ray& ray, Interval interval, CellMethod method);
+
 // The nearest hits of a bundle of rays leaving one origin, such as a tile of a pinhole camera's pixels:
 // hits[k] is exactly what intersect(grid, rays[k], interval, method, counters, traversal) returns. For the
 // whole bundle at once, the pyramid first proves how far from the origin (horizontally) every ray stays above

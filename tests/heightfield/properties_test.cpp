@@ -186,3 +186,58 @@ TEST_CASE("Triangles versus bilinear: the vertical gap never exceeds |d|/4 of th
     INFO("worst gap minus |d|/4: " << worstExcess << " m");
     CHECK(checked > 150000);
 }
+
+TEST_CASE("firstBlock blocks exactly the rays occluded blocks: at the nearest hit for rays that come down on the "
+          "surface, at the entry for rays that come in under it from a hole", "[heightfield][properties]") {
+    const HeightGrid& g = stHelens();
+    for (CellMethod m : {CellMethod::Bilinear, CellMethod::Triangles, CellMethod::Nearest}) {
+        INFO(cellMethodName(m));
+        // Rays from high above towards random points of the valid footprint, steep and shallow.
+        std::mt19937_64 rng(2718);
+        std::uniform_real_distribution<double> U(-1.0, 1.0), S(0.0, 0.4);
+        int64_t blocked = 0, atFirstHit = 0;
+        const int64_t n = 30000 / kSweepDivisor;
+        for (int64_t k = 0; k < n; ++k) {
+            const glm::dvec2 p = randomValidPoint(g, rng);
+            glm::dvec3 d{U(rng), U(rng), 0.0};
+            d.z = -S(rng) * std::hypot(d.x, d.y) - 1e-3;
+            const double top = double(g.maxHeightM()) + 5.0, back = (top - double(g.minHeightM())) / -d.z;
+            const Ray ray{glm::dvec3(p, top) - back * d, d};
+            const Interval span{0.0, 2.0 * back};
+            const auto block = firstBlock(g, ray, span, m);
+            INFO("ray " << k);
+            REQUIRE(block.has_value() == occluded(g, ray, span, m));
+            if (!block) continue;
+            ++blocked;
+            // Blocked at the first crossing, or earlier: where the ray came in under the surface (over a hole,
+            // or at a nearest square's wall), with no crossing at all or a later one.
+            const auto hit = intersect(g, ray, span, m);
+            if (hit && block->t == hit->t) ++atFirstHit;
+            else REQUIRE((!hit || block->t < hit->t));
+        }
+        CHECK(blocked > n / 10);
+        CHECK(atFirstHit > blocked * 9 / 10);
+        // Horizontal rays from the middle of a hole cell, a metre under the lowest corner of the valid cell east
+        // of it, heading east: they come in under that cell, where occlusion (the terrain solid) blocks them at
+        // once, while a search for a crossing from above finds none there (but the nearest squares' wall).
+        int64_t fromHoles = 0;
+        for (int64_t j = 0; j < g.cellsY() && fromHoles < 200; ++j)
+            for (int64_t i = 0; i + 1 < g.cellsX() && fromHoles < 200; ++i) {
+                if (g.cellValid(i, j) || !g.cellValid(i + 1, j)) continue;
+                const double low = std::min({g.at(i + 1, j), g.at(i + 2, j), g.at(i + 1, j + 1), g.at(i + 2, j + 1)});
+                const Ray ray{{(double(i) + 0.5) * g.cellSizeXM(), (double(j) + 0.5) * g.cellSizeYM(), low - 1.0},
+                              {1.0, 0.0, 0.0}};
+                const double entry = 0.5 * g.cellSizeXM();
+                const auto block = firstBlock(g, ray, {0.0, kInfinity}, m);
+                INFO("hole cell " << i << ", " << j);
+                REQUIRE(block);
+                CHECK(block->t == Approx(entry).margin(1e-6));
+                // (The nearest squares' wall there is a crossing too.)
+                const auto hit = intersect(g, ray, {0.0, kInfinity}, m);
+                if (m == CellMethod::Nearest) CHECK((hit && hit->t == block->t));
+                else if (hit) CHECK(hit->t > entry);
+                ++fromHoles;
+            }
+        CHECK(fromHoles == 200);
+    }
+}
