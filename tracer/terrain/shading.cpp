@@ -3,12 +3,12 @@
 #include "heightfield/shading_normals.h"
 
 #include "tracer/core/angles.h"
+#include "tracer/core/ticks.h"
 #include "tracer/sampling/rng.h"
 #include "tracer/sampling/warps.h"
 #include "tracer/terrain/solid_base.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <utility>
 
@@ -110,59 +110,22 @@ glm::vec3 TerrainShader::miss(const glm::dvec3& dir) const {
 
 namespace {
 
-// Per thread, for shadow rays and sky-visibility rays: the rays traced, those timed, and the nanoseconds of those.
-thread_local int64_t secondaryRays[2] = {0, 0};
-thread_local int64_t secondaryRaysTimed[2] = {0, 0};
-thread_local double secondaryRayNanoseconds[2] = {0.0, 0.0};
+thread_local uint64_t secondaryRayTicks[2] = {0, 0};  // shadow rays, sky-visibility rays
 
 }  // namespace
 
-bool TerrainShader::timeThisOne() {
-    // xorshift32 (Marsaglia 2003): a spread draw, so that no pixel column or stratum is always the one timed.
-    thread_local uint32_t state = 2463534242u;
-    state ^= state << 13;
-    state ^= state >> 17;
-    state ^= state << 5;
-    return state % kTimedEvery == 0;
-}
-
-double TerrainShader::clockReadNanoseconds() {
-    static const double cost = [] {
-        // The least of many back-to-back pairs: what an empty interval measures.
-        using Clock = std::chrono::steady_clock;
-        double least = 1e9;
-        for (int k = 0; k < 200; ++k) {
-            const auto a = Clock::now();
-            const auto b = Clock::now();
-            least = std::min(least, double(std::chrono::duration_cast<std::chrono::nanoseconds>(b - a).count()));
-        }
-        return least;
-    }();
-    return cost;
-}
-
-TerrainShader::RaySeconds TerrainShader::takeSecondaryRaySeconds() {
-    double seconds[2];
-    for (int k = 0; k < 2; ++k) {
-        seconds[k] = secondaryRaysTimed[k] > 0 ? secondaryRayNanoseconds[k] * 1e-9 * double(secondaryRays[k]) /
-                                                     double(secondaryRaysTimed[k])
-                                               : 0.0;
-        secondaryRays[k] = secondaryRaysTimed[k] = 0;
-        secondaryRayNanoseconds[k] = 0.0;
-    }
-    return {seconds[0], seconds[1]};
+TerrainShader::RayTicks TerrainShader::takeSecondaryRayTicks() {
+    const RayTicks ticks{secondaryRayTicks[0], secondaryRayTicks[1]};
+    secondaryRayTicks[0] = secondaryRayTicks[1] = 0;
+    return ticks;
 }
 
 bool TerrainShader::occluded(const Ray& ray, bool sky) const {
     if (!timeRays_) return surface_.occluded(ray, {0.0, kInfinity});
-    ++secondaryRays[sky];
-    if (!timeThisOne()) return surface_.occluded(ray, {0.0, kInfinity});
-    const auto start = std::chrono::steady_clock::now();
+    const uint64_t start = readTicks();
     const bool blocked = surface_.occluded(ray, {0.0, kInfinity});
-    const auto end = std::chrono::steady_clock::now();
-    ++secondaryRaysTimed[sky];
-    secondaryRayNanoseconds[sky] +=
-        double(std::chrono::duration_cast<std::chrono::nanoseconds>(end - start).count()) - clockReadNanoseconds();
+    const uint64_t spent = readTicks() - start;
+    secondaryRayTicks[sky] += spent - std::min(spent, tickReadCost());
     return blocked;
 }
 

@@ -84,23 +84,16 @@ public:
     glm::vec3 hit(const HeightFieldHit& hit, const Ray& ray, int px, int py, int64_t& shadowRays, int64_t& skyRays,
                   int sample = 0) const;
 
-    // With `on`, the shadow and sky-visibility rays' time is estimated per thread (render --verbose): rays drawn
-    // at random, one in kTimedEvery on average, are timed and the sums scaled by the rays over those timed (a
-    // clock read around every ray would add a tenth to the render); off by default, when it costs nothing.
+    // With `on`, the shadow and sky-visibility rays' time is added up per thread (render --verbose), in ticks of
+    // tracer/core/ticks.h, each interval less the cost of its reads; off by default, when it costs nothing.
     void timeSecondaryRays(bool on) { timeRays_ = on; }
-    static constexpr uint32_t kTimedEvery = 8;
-    // True for about one call in kTimedEvery, drawn per thread from a fixed sequence (for timing by samples).
-    static bool timeThisOne();
-    // What reading the steady clock twice adds to an interval timed between the reads (measured once), which
-    // the estimates subtract from each timed interval.
-    static double clockReadNanoseconds();
-    // The seconds this thread spent tracing shadow rays and sky-visibility rays since its last call, estimated as
-    // above (0 unless timed).
-    struct RaySeconds {
-        double shadow = 0.0;
-        double sky = 0.0;
+    // The ticks this thread spent tracing shadow rays and sky-visibility rays since its last call (0 unless
+    // timed).
+    struct RayTicks {
+        uint64_t shadow = 0;
+        uint64_t sky = 0;
     };
-    static RaySeconds takeSecondaryRaySeconds();
+    static RayTicks takeSecondaryRayTicks();
 
 private:
     // `sky`: a sky-visibility ray, else a shadow ray (towards the sun).

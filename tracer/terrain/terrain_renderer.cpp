@@ -3,6 +3,7 @@
 #include "tracer/core/cancel.h"
 #include "tracer/core/parallel.h"
 #include "tracer/core/ranks.h"
+#include "tracer/core/ticks.h"
 
 #include <algorithm>
 #include <atomic>
@@ -24,11 +25,15 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
     const double setupSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     std::atomic<int64_t> primary{0}, shadow{0}, sky{0}, hits{0}, pixelsDone{0};
-    // Thread-nanoseconds of the work tiles, of shading (secondary rays included) and of the secondary rays.
-    std::atomic<int64_t> tileNs{0}, shadeNs{0}, shadowNs{0}, skyNs{0};
-    using Clock = std::chrono::steady_clock;
-    const auto nanoseconds = [](Clock::time_point a, Clock::time_point b) {
-        return std::chrono::duration_cast<std::chrono::nanoseconds>(b - a).count();
+    // Ticks (tracer/core/ticks.h) of the work tiles, of shading (secondary rays included) and of the secondary
+    // rays: each interval timed by two reads of the time-stamp counter less what the reads add, so that timing
+    // every sample and every ray costs a few per cent rather than the tenth the steady clock's reads took.
+    std::atomic<uint64_t> tileTicks{0}, shadeTicks{0}, shadowTicks{0}, skyTicks{0};
+    const TickRate tickRate;
+    const uint64_t readCost = s.timePhases ? tickReadCost() : 0;
+    const auto spentSince = [readCost](uint64_t start) {
+        const uint64_t spent = readTicks() - start;
+        return spent - std::min(spent, readCost);
     };
     std::mutex progressMutex;
     const int64_t totalPixels = int64_t(s.width) * s.height;
@@ -39,16 +44,11 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
     const auto sampler = s.sampling.makeSampler(s.seed);
     const bool centresOnly = !s.view && !sampler;
     const double aspect = double(s.width) / double(s.height);
-    // With timePhases, camera samples drawn at random (TerrainShader::timeThisOne) are timed (their shading,
-    // secondary rays included), the secondary rays likewise on their own (TerrainShader::timeSecondaryRays), and
-    // the sums scaled by the samples over those timed: reading the clock (about 25 ns here) around every sample
-    // and every secondary ray would add a tenth to the render, most of it counted as shading.
-    const double clockNs = s.timePhases ? TerrainShader::clockReadNanoseconds() : 0.0;
     const auto renderTile = [&](int x0, int y0, int x1, int y1) {
-        int64_t nPrimary = 0, nShadow = 0, nSky = 0, nHits = 0, nTimed = 0;
-        double nShadeNs = 0.0;
-        const auto tileStart = s.timePhases ? Clock::now() : Clock::time_point{};
-        if (s.timePhases) TerrainShader::takeSecondaryRaySeconds();  // this thread's count starts here
+        int64_t nPrimary = 0, nShadow = 0, nSky = 0, nHits = 0;
+        uint64_t nShadeTicks = 0;
+        const uint64_t tileStart = s.timePhases ? readTicks() : 0;
+        if (s.timePhases) TerrainShader::takeSecondaryRayTicks();  // this thread's count starts here
         // What camera sample k of pixel (x, y) brings back: the base's wall in front, the terrain, or the backdrop.
         const auto shade = [&](const Ray& ray, const std::optional<HeightFieldHit>& hit, int x, int y, int k) {
             if (const auto wall = shader.base(ray, hit ? hit->t : kInfinity, nShadow)) return *wall;
@@ -58,11 +58,10 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
         };
         const auto radiance = [&](const Ray& ray, const std::optional<HeightFieldHit>& hit, int x, int y, int k) {
             ++nPrimary;
-            if (!s.timePhases || !TerrainShader::timeThisOne()) return shade(ray, hit, x, y, k);
-            ++nTimed;
-            const auto t0 = Clock::now();
+            if (!s.timePhases) return shade(ray, hit, x, y, k);
+            const uint64_t t0 = readTicks();
             const glm::vec3 value = shade(ray, hit, x, y, k);
-            nShadeNs += double(nanoseconds(t0, Clock::now())) - clockNs;
+            nShadeTicks += spentSince(t0);
             return value;
         };
         if (centresOnly) {
@@ -90,12 +89,11 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
         sky += nSky;
         hits += nHits;
         if (s.timePhases) {
-            tileNs += nanoseconds(tileStart, Clock::now());
-            const double scale = nTimed > 0 ? double(nPrimary) / double(nTimed) : 0.0;
-            shadeNs += int64_t(nShadeNs * scale);
-            const auto rays = TerrainShader::takeSecondaryRaySeconds();
-            shadowNs += int64_t(rays.shadow * 1e9);
-            skyNs += int64_t(rays.sky * 1e9);
+            tileTicks += spentSince(tileStart);
+            shadeTicks += nShadeTicks;
+            const auto rays = TerrainShader::takeSecondaryRayTicks();
+            shadowTicks += rays.shadow;
+            skyTicks += rays.sky;
         }
         const int64_t done = pixelsDone += int64_t(x1 - x0) * (y1 - y0);
         if (s.progress) {
@@ -147,11 +145,16 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
         if (s.timePhases) {
             // A rank's own threads (the film's sums are the leader's; these are not summed over ranks).
             stats->setupSeconds = setupSeconds;
-            stats->shadowRaySeconds = double(shadowNs.load()) * 1e-9;
-            stats->skyRaySeconds = double(skyNs.load()) * 1e-9;
-            // Estimates, each from its own draw: on a tiny render their difference can dip below zero.
-            stats->shadingSeconds = std::max(0.0, double(shadeNs.load() - shadowNs.load() - skyNs.load()) * 1e-9);
-            stats->cameraRaySeconds = double(tileNs.load() - shadeNs.load()) * 1e-9;
+            const double perTick = 1.0 / tickRate.ticksPerSecond();
+            const auto seconds = [perTick](uint64_t whole, uint64_t part) {
+                return double(whole - std::min(whole, part)) * perTick;
+            };
+            stats->shadowRaySeconds = double(shadowTicks.load()) * perTick;
+            stats->skyRaySeconds = double(skyTicks.load()) * perTick;
+            // A secondary ray's own two reads fall inside its sample's interval: take them out of the shading.
+            const uint64_t rayReads = uint64_t(shadow.load() + sky.load()) * readCost;
+            stats->shadingSeconds = seconds(shadeTicks.load(), shadowTicks.load() + skyTicks.load() + rayReads);
+            stats->cameraRaySeconds = seconds(tileTicks.load(), shadeTicks.load());
         }
     }
     return film;
