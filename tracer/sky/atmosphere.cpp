@@ -82,7 +82,7 @@ TransmittanceTable::TransmittanceTable(const AtmosphereParameters& a) : a_(a), d
             const double u = double(i) / (kMuSize - 1);
             const double d = dMin + (dMax - dMin) * (1.0 - (1.0 - u) * (1.0 - u));
             const double mu = d == 0.0 ? 1.0 : clampCosine((H * H - rho * rho - d * d) / (2.0 * r * d));
-            depth_[size_t(j) * kMuSize + size_t(i)] = glm::vec3(opticalDepthToTop(a, r, mu, 64));
+            depth_[size_t(j) * kMuSize + size_t(i)] = glm::vec3(opticalDepthToTop(a, r, mu, 32));
         }
     });
 }

@@ -38,7 +38,10 @@ std::optional<WallHit> intersectSolidBase(const HeightGrid& grid, double floorM,
         const double t = (plane - o) / d;
         if (!(t > 0.0 && t < tMax) || (best && t >= best->t)) continue;
         const glm::dvec3 p = ray.origin + t * ray.dir;
-        if (p.z < floorM) continue;
+        // The wall's top interpolates the edge's heights: a point above the grid's highest (past the rounding of
+        // that interpolation) is above the wall too.
+        const double highest = double(grid.maxHeightM());
+        if (p.z < floorM || p.z > highest + 1e-9 * (1.0 + std::abs(highest))) continue;
         std::optional<double> top;
         if (alongY) {
             const int64_t i = wall == 0 ? 0 : grid.width() - 1;

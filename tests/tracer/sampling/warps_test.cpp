@@ -8,6 +8,8 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
+#include <vector>
 
 using namespace terracast;
 using namespace terracast::testing;
@@ -71,6 +73,37 @@ TEST_CASE("The concentric map fills the unit disk and preserves area", "[tracer]
                   0.5);
     checkEstimate(monteCarlo(3, [](glm::dvec2 u) { return glm::length(squareToConcentricDisk(u)) < 0.5 ? 1.0 : 0.0; }),
                   0.25);
+}
+
+TEST_CASE("The concentric map's angle is the library's cosine and sine within four ulps", "[tracer][sampling]") {
+    // Shirley and Chiu's map written with std::cos and std::sin, against the map's own series for them: random
+    // points, the diagonals (the largest angle, pi / 4) and points next to the axes (the smallest).
+    const auto reference = [](glm::dvec2 u) {
+        const glm::dvec2 a = 2.0 * u - 1.0;
+        if (a.x == 0.0 && a.y == 0.0) return glm::dvec2(0.0);
+        const bool xWide = std::abs(a.x) > std::abs(a.y);
+        const double r = xWide ? a.x : a.y;
+        const double phi = xWide ? kPi / 4.0 * (a.y / a.x) : kPi / 2.0 - kPi / 4.0 * (a.x / a.y);
+        return glm::dvec2(r * std::cos(phi), r * std::sin(phi));
+    };
+    std::vector<glm::dvec2> points;
+    RandomStream s(11);
+    for (int k = 0; k < 100000; ++k) points.push_back(s.next2());
+    for (double t : {0.0, 1e-12, 0.25, 0.5 - 1e-9, 0.75, 1.0 - 1e-15, 1.0}) {
+        points.push_back({t, t});
+        points.push_back({t, 1.0 - t});
+        points.push_back({t, 0.5 + 1e-13});
+        points.push_back({0.5 - 1e-13, t});
+    }
+    double worst = 0.0;
+    for (const glm::dvec2& u : points) {
+        const glm::dvec2 p = squareToConcentricDisk(u), q = reference(u);
+        // Ulps of the point's distance from the centre, the scale both coordinates are computed at.
+        const double ulp = std::max(std::abs(q.x), std::abs(q.y)) * std::numeric_limits<double>::epsilon();
+        worst = std::max(worst, std::max(std::abs(p.x - q.x), std::abs(p.y - q.y)) / std::max(ulp, 1e-300));
+    }
+    INFO("worst difference " << worst << " ulps");
+    CHECK(worst <= 4.0);
 }
 
 TEST_CASE("Uniform sphere directions integrate known functions", "[tracer][sampling]") {
