@@ -16,6 +16,12 @@ void addResume(CLI::App& cmd, bool& resume) {
                  "only the others");
 }
 
+void addVerbose(CLI::App& cmd, bool& verbose) {
+    cmd.add_flag("-v,--verbose", verbose,
+                 "Also tell each phase's seconds: reading the DEM and making the grid, the set-up (a viewshed's curved "
+                 "copy and sight bounds), the output tiles, the COG");
+}
+
 void addThreadsAndMethod(CLI::App& cmd, int& threads, std::string& method) {
     cmd.add_option("--method", method, "Direct cell method (default bilinear)");
     cmd.add_option("--threads", threads, "Worker threads, 0 = all cores")->check(nonNegativeInteger());
@@ -42,6 +48,7 @@ void addMapCommands(CLI::App& app, Commands& commands) {
         addDemOptions(*cmd, t->options.dem);
         cmd->add_option("-o,--output", t->options.output, "Output GeoTIFF (.tif) on the DEM's grid")->required();
         addResume(*cmd, t->options.resume);
+        addVerbose(*cmd, t->options.verbose);
         cmd->add_option("--sun", t->sun, "Sun azimuth,elevation in degrees (default 315,35)");
         cmd->add_option("--sun-size", t->options.sunSizeDeg,
                         "Sun's angular diameter in degrees; > 0 gives the blocked fraction (default 0: a point)");
@@ -73,6 +80,7 @@ void addMapCommands(CLI::App& app, Commands& commands) {
         addDemOptions(*cmd, t->options.dem);
         cmd->add_option("-o,--output", t->options.output, "Output GeoTIFF (.tif) on the DEM's grid")->required();
         addResume(*cmd, t->options.resume);
+        addVerbose(*cmd, t->options.verbose);
         auto* one = cmd->add_option("--azimuth", t->azimuth, "Azimuth in degrees clockwise from north");
         auto* many = cmd->add_option("--azimuths", t->azimuths,
                                      "START:END:STEP in degrees, END excluded: one band per azimuth, in one pass "
@@ -105,6 +113,7 @@ void addMapCommands(CLI::App& app, Commands& commands) {
         addDemOptions(*cmd, t->options.dem);
         cmd->add_option("-o,--output", t->options.output, "Output GeoTIFF (.tif) on the DEM's grid")->required();
         addResume(*cmd, t->options.resume);
+        addVerbose(*cmd, t->options.verbose);
         cmd->add_option("--directions", t->options.directions, "Azimuths, evenly spaced from north (default 16)");
         addSearchOptions(*cmd, t->options.maxDistanceM, t->options.curvatureCoeff,
                          "Search radius in metres (default 0: 10 cells)");
@@ -128,6 +137,7 @@ void addMapCommands(CLI::App& app, Commands& commands) {
         addDemOptions(*cmd, t->options.dem);
         cmd->add_option("-o,--output", t->options.output, "Output GeoTIFF (.tif) on the DEM's grid")->required();
         addResume(*cmd, t->options.resume);
+        addVerbose(*cmd, t->options.verbose);
         cmd->add_option("--date", t->dates,
                         "A day YYYY-MM-DD or dates START/END (END included), local solar days at the DEM's centre")
             ->required();
@@ -160,6 +170,7 @@ void addMapCommands(CLI::App& app, Commands& commands) {
         addDemOptions(*cmd, v.dem);
         cmd->add_option("-o,--output", v.output, "Output GeoTIFF (.tif) on the DEM's grid")->required();
         addResume(*cmd, v.resume);
+        addVerbose(*cmd, v.verbose);
         auto* one = cmd->add_option("--observer", t->observer, "Observer X,Y in the DEM's CRS (lon,lat with --lonlat)");
         auto* many = cmd->add_option("--observers", v.observersFile,
                                      "Many observers: a CSV of X,Y[,HEIGHT] in the DEM's CRS or a vector file of points "

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <regex>
 #include <vector>
 
 using namespace terracast::testing;
@@ -113,6 +114,39 @@ TEST_CASE("CLI: shadow, horizon and viewshed GeoTIFFs carry the DEM's CRS and ge
     CHECK(bad.err.find("--observer") != std::string::npos);
     CHECK_FALSE(fs::exists(dir / "none.tif"));
     fs::remove_all(dir);
+}
+
+TEST_CASE("CLI: map products' --verbose tells each phase's seconds, which add up to the whole", "[cli][maps]") {
+    const TempDir dir("map-phases");
+    const std::string out = (dir.path() / "product.tif").string();
+    const std::string number = "([0-9]+\\.[0-9]+)";
+    const std::regex phases("phases: reading the DEM and making the grid " + number + " s, set-up " + number +
+                            " s, output tiles \\(computed, each written as it is finished\\) " + number + " s, COG " +
+                            number + " s; total " + number + " s");
+    for (const std::string& command :
+         {"shadow '" + kDem + "' --sun 135,20", "horizon '" + kDem + "' --azimuth 90", "svf '" + kDem + "'",
+          "insolation '" + kDem + "' --date 2026-06-21 --step 2h",
+          "viewshed '" + kDem + "' --observer 325000,5103000 --observer-height 2"}) {
+        INFO(command);
+        const auto r = runTerracast(command + " -o '" + out + "' --threads 2 --verbose");
+        REQUIRE(r.exitCode == 0);
+        std::smatch m;
+        REQUIRE(std::regex_search(r.err, m, phases));
+        const double load = std::stod(m[1]), setup = std::stod(m[2]), tiles = std::stod(m[3]), cog = std::stod(m[4]),
+                     total = std::stod(m[5]);
+        // The phases follow one another within the whole (the rest: checks and the summary's own counting).
+        CHECK(load + setup + tiles + cog <= total + 0.002);
+        CHECK(load + setup + tiles + cog >= 0.8 * total - 0.002);
+        CHECK(load > 0.0);
+        CHECK(tiles > 0.0);
+        CHECK(cog > 0.0);
+        // A viewshed's set-up makes the curved earth's copy of the grid and the sight bounds.
+        if (command.rfind("viewshed", 0) == 0) CHECK(setup > 0.0);
+        // Without --verbose, the summary alone.
+        const auto quiet = runTerracast(command + " -o '" + out + "' --threads 2");
+        REQUIRE(quiet.exitCode == 0);
+        CHECK(quiet.err.find("phases:") == std::string::npos);
+    }
 }
 
 TEST_CASE("CLI: map products declare what they hold: bands, units, types, pixel-is-point", "[cli][maps]") {

@@ -228,16 +228,20 @@ VertexProduct shadowProduct(const ShadowMapOptions& o, const LoadedDem& dem, con
 void writeShadowMap(const ShadowMapOptions& o, const RunListener& listener) {
     checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
     checkShadowOptions(o);
+    MapPhaseClock phases;
     const LoadedDem dem = loadDemSource(o.dem, listener, true);
+    phases.demLoaded();
     VertexProduct product = shadowProduct(o, dem, listener);
     checkRasterJob(dem, o.dem.maxMemoryBytes, product.bands, product.type, 0.0,
                    o.sunTimes.empty() ? std::string("a shadow mask") : fmt::format("{} shadow bands", product.bands));
+    phases.productPlanned();
     listener.at("shadow");
     const auto start = std::chrono::steady_clock::now();
     const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), o.threads, listener);
     const bool disc = o.sunTimes.empty() && o.sunSizeDeg != 0.0;
     tellRasterSummary(listener, o.sunTimes.empty() ? "shadow mask" : "shadow masks", o.output, count,
                       count.valid * (disc ? kSunDiscSamples : 1), "shadow walks", start);
+    if (o.verbose) listener.tell(mapPhasesLine(phases, count));
 }
 
 namespace {
@@ -279,14 +283,18 @@ VertexProduct horizonProduct(const HorizonMapOptions& o, const LoadedDem& dem) {
 void writeHorizonMap(const HorizonMapOptions& o, const RunListener& listener) {
     checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
     checkHorizonOptions(o);
+    MapPhaseClock phases;
     const LoadedDem dem = loadDemSource(o.dem, listener, true);
+    phases.demLoaded();
     listener.at("horizon");
     const auto start = std::chrono::steady_clock::now();
     VertexProduct product = horizonProduct(o, dem);
     checkRasterJob(dem, o.dem.maxMemoryBytes, product.bands, RasterType::Float32, 0.0,
                    fmt::format("{} horizon bands", product.bands));
+    phases.productPlanned();
     const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), o.threads, listener);
     tellRasterSummary(listener, "horizon angles", o.output, count, count.rays, "horizon walks", start);
+    if (o.verbose) listener.tell(mapPhasesLine(phases, count));
 }
 
 namespace {
@@ -329,16 +337,20 @@ VertexProduct skyViewProduct(const SkyViewMapOptions& o, const LoadedDem& dem) {
 void writeSkyViewMap(const SkyViewMapOptions& o, const RunListener& listener) {
     checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
     checkSkyViewOptions(o);
+    MapPhaseClock phases;
     const LoadedDem dem = loadDemSource(o.dem, listener, true);
+    phases.demLoaded();
     checkRasterJob(dem, o.dem.maxMemoryBytes, 3, RasterType::Float32, 0.0, "sky-view factor and openness");
     listener.at("svf");
     const auto start = std::chrono::steady_clock::now();
     VertexProduct product = skyViewProduct(o, dem);
+    phases.productPlanned();
     const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), o.threads, listener);
     listener.tell(fmt::format("sky-view factor and openness: {} directions, search radius {:.1f} m", o.directions,
                               skyViewRadius(o, dem.grid)));
     tellRasterSummary(listener, "sky view", o.output, count, count.width * count.height * 2 * o.directions,
                       "horizon walks", start);
+    if (o.verbose) listener.tell(mapPhasesLine(phases, count));
 }
 
 namespace {
@@ -472,15 +484,19 @@ VertexProduct insolationProduct(const InsolationMapOptions& o, const LoadedDem& 
 void writeInsolationMap(const InsolationMapOptions& o, const RunListener& listener) {
     checkOutputPath(o.output, o.dem.path, {".tif", ".tiff"});
     checkInsolationOptions(o);
+    MapPhaseClock phases;
     const LoadedDem dem = loadDemSource(o.dem, listener, true);
+    phases.demLoaded();
     int64_t up = 0;
     VertexProduct product = insolationProduct(o, dem, listener, &up);
     checkRasterJob(dem, o.dem.maxMemoryBytes, kInsolationBands, RasterType::Float32, 0.0, "insolation bands");
+    phases.productPlanned();
     listener.at("insolation");
     const auto start = std::chrono::steady_clock::now();
     const ProductCount count = writeVertexProduct(o.output, o.resume, dem, std::move(product), o.threads, listener);
     tellRasterSummary(listener, "insolation", o.output, count, count.width * count.height * up,
                       "vertex-sun positions", start);
+    if (o.verbose) listener.tell(mapPhasesLine(phases, count));
 }
 
 namespace {
@@ -639,9 +655,12 @@ void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) 
     checkViewshedOptions(o);
     // The curved earth traces a lowered copy of the grid (for tiles, a second tile cache over the same source);
     // either reads only the tiles it needs.
+    MapPhaseClock phases;
     const LoadedDem dem = loadDemSource(o.dem, listener, true);
+    phases.demLoaded();
     int64_t n = 1;
     VertexProduct product = viewshedProduct(o, dem, &n);  // checks the job's memory
+    phases.productPlanned();
     listener.at("viewshed");
     const auto start = std::chrono::steady_clock::now();
     const bool many = !o.observersFile.empty();
@@ -649,6 +668,7 @@ void writeViewshedMap(const ViewshedMapOptions& o, const RunListener& listener) 
     if (many) listener.tell(fmt::format("{} observers from {}", n, o.observersFile));
     tellRasterSummary(listener, many ? "cumulative viewshed" : "viewshed", o.output, count, count.valid * n,
                       "sight lines", start);
+    if (o.verbose) listener.tell(mapPhasesLine(phases, count));
 }
 
 }  // namespace terracast

@@ -27,6 +27,7 @@ struct ShadowMapOptions {
     DemSource dem;
     std::string output;                // GeoTIFF on the DEM's grid
     bool resume = false;               // keep the output tiles an interrupted run of the same job finished
+    bool verbose = false;              // also tell each phase's seconds (tellMapPhases)
     double sunAzimuthDeg = 315.0;      // clockwise from north
     double sunElevationDeg = 35.0;     // above the horizon
     double sunSizeDeg = 0.0;           // angular diameter; 0 = a point (Byte mask of 0/1), else the blocked fraction
@@ -45,6 +46,7 @@ struct HorizonMapOptions {
     DemSource dem;
     std::string output;                // GeoTIFF on the DEM's grid, degrees
     bool resume = false;
+    bool verbose = false;
     std::vector<double> azimuthsDeg{180.0};  // clockwise from north, one band each
     double maxDistanceM = 0.0;         // search radius; 0 = the whole DEM
     double curvatureCoeff = 0.0;       // earth curvature less refraction, as viewshed's; 0 = flat earth
@@ -64,6 +66,7 @@ struct SkyViewMapOptions {
     DemSource dem;
     std::string output;                // GeoTIFF on the DEM's grid
     bool resume = false;
+    bool verbose = false;
     int directions = 16;               // azimuths
     double maxDistanceM = 0.0;         // search radius; 0 = 10 cells (the Relief Visualization Toolbox's default)
     double curvatureCoeff = 0.0;
@@ -93,6 +96,7 @@ struct InsolationMapOptions {
     DemSource dem;
     std::string output;                // GeoTIFF on the DEM's grid
     bool resume = false;
+    bool verbose = false;
     DateSpan dates;                    // local solar days (of each block of vertices)
     int64_t stepSeconds = 1800;        // time step within a day (r.sun's default half hour)
     int dayStep = 1;                   // every n-th day is computed and stands for the n days from it
@@ -113,6 +117,7 @@ struct ViewshedMapOptions {
     DemSource dem;
     std::string output;                // GeoTIFF on the DEM's grid
     bool resume = false;
+    bool verbose = false;
     double observerX = 0.0;            // in the DEM's CRS (or longitude with lonLat)
     double observerY = 0.0;            // in the DEM's CRS (or latitude with lonLat)
     bool lonLat = false;               // observer given as WGS84 longitude, latitude

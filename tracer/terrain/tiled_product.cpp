@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <exception>
 #include <filesystem>
@@ -145,6 +146,7 @@ ProductCount writeVertexProduct(const std::string& path, bool resume, const Load
         }
     } keptTiles{writer, listener};
     std::future<void> pending;
+    const auto tilesStart = std::chrono::steady_clock::now();
     for (int64_t k = ranks::nextTask(); k < int64_t(todo.size()); k = ranks::nextTask()) {
         const auto [tx, ty] = todo[size_t(k)];
         const TiledGeoTiffWriter::Window w = writer.window(tx, ty);
@@ -165,6 +167,7 @@ ProductCount writeVertexProduct(const std::string& path, bool resume, const Load
         });
     }
     if (pending.valid()) pending.get();
+    count.tilesSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tilesStart).count();
     int64_t sums[2] = {count.valid, count.rays};
     ranks::sum(sums, 2);
     count.valid = sums[0];
@@ -173,11 +176,23 @@ ProductCount writeVertexProduct(const std::string& path, bool resume, const Load
     count.tiles = tileTraffic(dem.grid);
     if (role == Role::Follower) return count;
     listener.at("writing");
+    const auto cogStart = std::chrono::steady_clock::now();
     writer.commit([&](double f) {
         if (listener.progress) listener.progress(f, count.rays);
         return true;
     }, threads);
+    count.cogSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - cogStart).count();
     return count;
+}
+
+std::string mapPhasesLine(const MapPhaseClock& clock, const ProductCount& count) {
+    const auto seconds = [](std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+        return std::chrono::duration<double>(b - a).count();
+    };
+    return fmt::format("phases: reading the DEM and making the grid {:.4f} s, set-up {:.4f} s, output tiles (computed, "
+                       "each written as it is finished) {:.4f} s, COG {:.4f} s; total {:.4f} s",
+                       seconds(clock.start, clock.loaded), seconds(clock.loaded, clock.planned), count.tilesSeconds,
+                       count.cogSeconds, seconds(clock.start, std::chrono::steady_clock::now()));
 }
 
 // The memory guard for a per-vertex product of `bands` bands written as `type`, tile by tile: two tiles in

@@ -45,7 +45,21 @@ struct ProductCount {
     int64_t width = 0, height = 0;
     int bands = 1;
     std::string tiles;  // the DEM's tile traffic (tileTraffic) in this process, for a DEM held as tiles
+    double tilesSeconds = 0.0;  // computing the output tiles and writing each as it is finished
+    double cogSeconds = 0.0;    // making the COG from them (0 on a rank that does not write it)
 };
+
+// The wall-clock seconds of one map product's run: from the start of the command's work to the DEM and its grid
+// held (`load`), then to the product planned (`setup`: for a viewshed its curved copy and sight bounds); the
+// output tiles' and the COG's seconds come from the ProductCount.
+struct MapPhaseClock {
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now(), loaded = start, planned = start;
+    void demLoaded() { loaded = std::chrono::steady_clock::now(); }
+    void productPlanned() { planned = std::chrono::steady_clock::now(); }
+};
+
+// The line `--verbose` adds to a map product's summary: each phase's seconds and the total.
+std::string mapPhasesLine(const MapPhaseClock& clock, const ProductCount& count);
 
 // Writes a per-vertex product on the DEM's own grid as a COG, computed and written an output tile at a time:
 // NaN becomes `noData`; with `resume` the tiles an interrupted run of the same job finished are kept. The next
