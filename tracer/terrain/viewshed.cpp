@@ -30,9 +30,9 @@ bool bilinearSurface(CellMethod m) {
 }
 
 // A cheap proof that a sight line is hidden, tried before walking it. Where a point of the line beyond the
-// stretch the sight bounds show clear, and before the target, lies under a valid cell's surface by more than
-// the bounds' tolerance, the walk from that stretch's end (where the line is above the surface) meets the
-// surface before that point: the line is hidden, as the walk would find. Neighbouring targets are mostly hidden
+// stretch known clear (by the sight bounds, or only the eye without them), and before the target, lies under a
+// valid cell's surface by more than the bounds' tolerance, the walk from that stretch's end (where the line is
+// above the surface) meets the surface before that point: the line is hidden, as the walk would find. Neighbouring targets are mostly hidden
 // by the same ridge, so each thread first tries the distance at which its last walked hidden line was blocked,
 // half a cell deeper, then one cell past the clear stretch. A failed probe decides nothing: the line is walked.
 // The probe only ever answers "hidden" where the walk does, so which distances it tries changes no verdict.
@@ -170,11 +170,18 @@ std::function<MapRaster(const VertexWindow&, const MapProgress&)> viewshedMaker(
             // the flat square's: the line is walked whole.
             seen = !occluded(*g, Ray{eye, d}, {0.0, end}, s.method);
         } else {
-            // The last few cells before the target are asked first: a target hidden by the ground around it (the
-            // common case far from the eye) is found there without walking the whole line.
+            // Without the bounds the line is clear only at the eye: probed from there. Then the last few cells
+            // before the target are asked first: a target hidden by the ground around it (the common case far from
+            // the eye) is found there without walking the whole line.
             const double nearTarget = std::max(0.0, end - kNearTargetCells * cellM / len);
-            seen = !occluded(*g, Ray{eye, d}, {nearTarget, end}, s.method) &&
-                   (nearTarget == 0.0 || !occluded(*g, Ray{eye, d}, {0.0, nearTarget}, s.method));
+            if (horizontal > 0.0 && probe->hidden(eye, d, horizontal, 0.0, end)) {
+                seen = false;
+            } else {
+                auto block = firstBlock(*g, Ray{eye, d}, {nearTarget, end}, s.method);
+                if (!block && nearTarget > 0.0) block = firstBlock(*g, Ray{eye, d}, {0.0, nearTarget}, s.method);
+                seen = !block;
+                if (block && horizontal > 0.0) probe->blockedAt(block->t, horizontal);
+            }
         }
         if (visibleOnly) return seen ? 1.0f : 0.0f;
         // The angle from hypot, as before the bounds: the raster's bits do not depend on them.
