@@ -3,6 +3,7 @@
 // nanoseconds. Ticks become seconds through a rate measured over the timed work itself (TickRate).
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 
@@ -25,6 +26,12 @@ inline uint64_t readTicks() {
 // What two back-to-back reads measure: the part of a read that an interval timed between two reads includes,
 // subtracted from each (the least of many pairs).
 uint64_t tickReadCost();
+
+// The ticks since `start` (a readTicks()), less `readCost` (tickReadCost()): what the timed work itself took.
+inline uint64_t ticksSince(uint64_t start, uint64_t readCost) {
+    const uint64_t spent = readTicks() - start;
+    return spent - std::min(spent, readCost);
+}
 
 // Ticks per second over a stretch of work: started when made, measured when asked (the counter of an x86-64
 // processor of this century runs at a constant rate; the stretch should last a good fraction of a second).

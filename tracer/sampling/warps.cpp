@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 namespace terracast {
 
@@ -32,25 +33,18 @@ namespace {
 // 1e-17 there): a fifth of the library's sincos, which the sky-visibility rays' directions spent most of their
 // set-up in. Within a few ulps of std::cos and std::sin (tests/tracer/sampling/warps_test.cpp).
 glm::dvec2 cosSinQuarter(double x) {
+    // The series' coefficients from the highest power down, evaluated in x^2 by Horner's rule.
+    static constexpr double kCos[] = {1.0 / 20922789888000.0, -1.0 / 87178291200.0, 1.0 / 479001600.0,
+                                      -1.0 / 3628800.0,       1.0 / 40320.0,        -1.0 / 720.0,
+                                      1.0 / 24.0,             -0.5,                 1.0};
+    static constexpr double kSin[] = {1.0 / 355687428096000.0, -1.0 / 1307674368000.0, 1.0 / 6227020800.0,
+                                      -1.0 / 39916800.0,       1.0 / 362880.0,         -1.0 / 5040.0,
+                                      1.0 / 120.0,             -1.0 / 6.0};
     const double x2 = x * x;
-    double c = 1.0 / 20922789888000.0, s = 1.0 / 355687428096000.0;  // 1/16!, 1/17!
-    c = c * x2 - 1.0 / 87178291200.0;                                  // 1/14!
-    c = c * x2 + 1.0 / 479001600.0;
-    c = c * x2 - 1.0 / 3628800.0;
-    c = c * x2 + 1.0 / 40320.0;
-    c = c * x2 - 1.0 / 720.0;
-    c = c * x2 + 1.0 / 24.0;
-    c = c * x2 - 0.5;
-    c = c * x2 + 1.0;
-    s = s * x2 - 1.0 / 1307674368000.0;  // 1/15!
-    s = s * x2 + 1.0 / 6227020800.0;
-    s = s * x2 - 1.0 / 39916800.0;
-    s = s * x2 + 1.0 / 362880.0;
-    s = s * x2 - 1.0 / 5040.0;
-    s = s * x2 + 1.0 / 120.0;
-    s = s * x2 - 1.0 / 6.0;
-    s = s * x2 * x + x;
-    return {c, s};
+    double c = kCos[0], s = kSin[0];
+    for (size_t k = 1; k < std::size(kCos); ++k) c = c * x2 + kCos[k];
+    for (size_t k = 1; k < std::size(kSin); ++k) s = s * x2 + kSin[k];
+    return {c, s * x2 * x + x};
 }
 
 }  // namespace

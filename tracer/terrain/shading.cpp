@@ -124,9 +124,13 @@ bool TerrainShader::occluded(const Ray& ray, bool sky) const {
     if (!timeRays_) return surface_.occluded(ray, {0.0, kInfinity});
     const uint64_t start = readTicks();
     const bool blocked = surface_.occluded(ray, {0.0, kInfinity});
-    const uint64_t spent = readTicks() - start;
-    secondaryRayTicks[sky] += spent - std::min(spent, tickReadCost());
+    secondaryRayTicks[sky] += ticksSince(start, tickReadCost_);
     return blocked;
+}
+
+void TerrainShader::timeSecondaryRays(bool on) {
+    timeRays_ = on;
+    tickReadCost_ = on ? tickReadCost() : 0;
 }
 
 std::optional<glm::vec3> TerrainShader::base(const Ray& ray, double tMax, int64_t& shadowRays) const {

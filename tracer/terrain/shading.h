@@ -86,7 +86,7 @@ public:
 
     // With `on`, the shadow and sky-visibility rays' time is added up per thread (render --verbose), in ticks of
     // tracer/core/ticks.h, each interval less the cost of its reads; off by default, when it costs nothing.
-    void timeSecondaryRays(bool on) { timeRays_ = on; }
+    void timeSecondaryRays(bool on);
     // The ticks this thread spent tracing shadow rays and sky-visibility rays since its last call (0 unless
     // timed).
     struct RayTicks {
@@ -110,6 +110,7 @@ private:
     uint64_t seed_;
     bool smoothNormals_;
     bool timeRays_ = false;
+    uint64_t tickReadCost_ = 0;  // tickReadCost() while rays are timed
     glm::dvec3 toSun_;
     glm::vec3 sunIrradiance_;
     Sky sky_;

@@ -31,10 +31,6 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
     std::atomic<uint64_t> tileTicks{0}, shadeTicks{0}, shadowTicks{0}, skyTicks{0};
     const TickRate tickRate;
     const uint64_t readCost = s.timePhases ? tickReadCost() : 0;
-    const auto spentSince = [readCost](uint64_t start) {
-        const uint64_t spent = readTicks() - start;
-        return spent - std::min(spent, readCost);
-    };
     std::mutex progressMutex;
     const int64_t totalPixels = int64_t(s.width) * s.height;
 
@@ -61,7 +57,7 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
             if (!s.timePhases) return shade(ray, hit, x, y, k);
             const uint64_t t0 = readTicks();
             const glm::vec3 value = shade(ray, hit, x, y, k);
-            nShadeTicks += spentSince(t0);
+            nShadeTicks += ticksSince(t0, readCost);
             return value;
         };
         if (centresOnly) {
@@ -89,7 +85,7 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
         sky += nSky;
         hits += nHits;
         if (s.timePhases) {
-            tileTicks += spentSince(tileStart);
+            tileTicks += ticksSince(tileStart, readCost);
             shadeTicks += nShadeTicks;
             const auto rays = TerrainShader::takeSecondaryRayTicks();
             shadowTicks += rays.shadow;
