@@ -293,6 +293,9 @@ void addDemOptions(CLI::App& cmd, DemSource& dem) {
         },
         "Hold the DEM as tiles read on demand, keeping at most this much of them, e.g. 256M (default: whole in "
         "memory when it fits in --max-memory, tiles otherwise)");
+    cmd.add_flag("--tile-store", dem.tileStore,
+                 "Held as tiles: keep them decoded in DEM.terracast-tiles (2 bytes a vertex for 16-bit heights, else 4) "
+                 "and read them from there in later runs instead of decoding the DEM again");
     cmd.add_option("--cell-size", dem.imageCellSizeM, "PNG height maps: metres between samples (default 1)")
         ->check(positiveNumber());
     cmd.add_option("--height-scale", dem.imageHeightScale,

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
@@ -31,6 +32,8 @@ struct TileCacheStats {
     size_t bytes = 0;       // bytes of the tiles held now
     size_t peakBytes = 0;   // the most ever held at once
     int64_t tiles = 0;      // tiles held now
+    double loadSeconds = 0.0;  // thread time spent loading tiles
+    double waitSeconds = 0.0;  // thread time spent waiting for a tile another thread was loading
 };
 
 template <class Tile>
@@ -103,18 +106,23 @@ private:
                 return it->second.tile;
             }
             if (!loading_.contains(key)) break;
+            const auto waitStart = std::chrono::steady_clock::now();
             loaded_.wait(lock);
+            stats_.waitSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - waitStart).count();
         }
         loading_.insert(key);
         lock.unlock();
         std::shared_ptr<const Tile> tile;
         std::exception_ptr failure;
+        const auto loadStart = std::chrono::steady_clock::now();
         try {
             tile = load_(key);
         } catch (...) {
             failure = std::current_exception();
         }
+        const double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loadStart).count();
         lock.lock();
+        stats_.loadSeconds += loadSeconds;
         loading_.erase(key);
         if (failure) {
             loaded_.notify_all();

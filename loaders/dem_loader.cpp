@@ -657,7 +657,8 @@ LoadedDem loadAsStored(const std::string& path, const DemLoadOptions& options) {
         // Every rank takes the same path (the whole load is collective): tiles only when every rank can.
         int64_t able = reader && reader->storedInBlocks() ? 1 : 0;
         ranks::sum(&able, 1);
-        if (able == ranks::size()) return openTiledDem(std::move(reader), size_t(cacheBytes), options.exaggeration);
+        if (able == ranks::size()) return openTiledDem(std::move(reader), size_t(cacheBytes), options.exaggeration,
+                                                        options.tileStore);
     }
     // A raster too large to hold whole is held as tiles, with a quarter of the memory left for their cache.
     try {

@@ -49,6 +49,10 @@ struct DemLoadOptions {
     // sidecar that keeps it, are those of the scaled heights). Positive and finite; a factor that makes a
     // height larger than kMaxExaggeratedHeightM is refused.
     double exaggeration = 1.0;
+    // For a DEM held as tiles: keep each tile decoded in a store beside the DEM (loaders/tile_store.h; 2 bytes a
+    // vertex for 16-bit heights in metres, else 4) and read it from there in later runs instead of decoding the
+    // raster's blocks again.
+    bool tileStore = false;
 };
 
 // A loaded DEM: plain data, no GDAL or OpenImageIO types.

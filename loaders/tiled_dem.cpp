@@ -86,10 +86,20 @@ GridSummary streamSummary(const DemWindowReader& reader, const std::string& path
 }  // namespace
 
 TiledDem::TiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options)
-    : TiledDem(std::make_unique<DemWindowReader>(path, options), cacheBytes, options.exaggeration) {}
+    : TiledDem(std::make_unique<DemWindowReader>(path, options), cacheBytes, options.exaggeration, options.tileStore) {}
 
-TiledDem::TiledDem(std::unique_ptr<DemWindowReader> reader, size_t cacheBytes, double exaggeration)
-    : TiledDem(std::shared_ptr<const DemWindowReader>(std::move(reader)), cacheBytes, exaggeration, HeightTransform{}) {}
+TiledDem::TiledDem(std::unique_ptr<DemWindowReader> reader, size_t cacheBytes, double exaggeration, bool tileStore)
+    : TiledDem(std::shared_ptr<const DemWindowReader>(std::move(reader)), cacheBytes, exaggeration, HeightTransform{}) {
+    if (!tileStore) return;
+    // The store holds what the reader returns, before any exaggeration: one store serves every factor.
+    std::string why;
+    const std::string path = TileStore::pathFor(reader_->path());
+    store_ = TileStore::open(path, summaryKey(*reader_) + " tile store;", layout_,
+                             reader_->wholeMetres() ? TileStore::Values::WholeMetres : TileStore::Values::FloatMetres,
+                             why);
+    if (!store_) storeOrigin_ = "none (" + why + ")";
+    else storeOrigin_ = (store_->fresh() ? "made " : "found ") + path;
+}
 
 TiledDem::TiledDem(std::shared_ptr<const DemWindowReader> reader, size_t cacheBytes, double exaggeration,
                    const HeightTransform& transform)
@@ -142,6 +152,8 @@ std::shared_ptr<const TileSource> TiledDem::transformed(const HeightTransform& t
     if (!transform_.identity()) return nullptr;  // one transform at a time, as for whole grids' copies
     auto copy = std::make_shared<TiledDem>(reader_, cacheBudgetBytes(), exaggeration_, t);
     copy->copies_ = copies_;
+    copy->store_ = store_;
+    copy->storeOrigin_ = storeOrigin_;
     summary = copy->summary();
     std::lock_guard lock(copies_->mutex);
     std::erase_if(copies_->alive, [](const std::weak_ptr<const TiledDem>& c) { return c.expired(); });
@@ -158,6 +170,8 @@ void add(TileCacheStats& sum, const TileCacheStats& s) {
     sum.bytes += s.bytes;
     sum.peakBytes += s.peakBytes;  // an upper bound on the peak of the sum
     sum.tiles += s.tiles;
+    sum.loadSeconds += s.loadSeconds;
+    sum.waitSeconds += s.waitSeconds;
 }
 
 }  // namespace
@@ -195,16 +209,29 @@ std::shared_ptr<const HeightTile> TiledDem::readTile(int64_t key) const {
     thread_local std::vector<int16_t> metres;
     thread_local std::vector<uint8_t> valid;
     valid.resize(static_cast<size_t>(w * h));
+    // The tile's heights as the reader returns them, from the store when it holds them (and into it when not).
+    const auto readMetres = [&] {
+        metres.resize(valid.size());
+        if (store_ && store_->read(key, w, h, metres.data(), valid.data())) return;
+        reader_->readWholeMetres(x0, y0, w, h, metres.data(), valid.data());
+        if (store_) store_->write(key, w, h, metres.data(), valid.data());
+    };
     try {
         // 16-bit heights in metres for a grid of one metre per code go straight to codes; the rest as floats.
         if (exaggeration_ == 1.0 && transform_.identity() && reader_->wholeMetres() &&
             HeightTile::takesWholeMetres(summary_)) {
-            metres.resize(valid.size());
-            reader_->readWholeMetres(x0, y0, w, h, metres.data(), valid.data());
+            readMetres();
             return std::make_shared<const HeightTile>(summary_, x0, y0, w, h, metres.data(), valid.data());
         }
         heights.resize(valid.size());
-        reader_->read(x0, y0, w, h, heights.data(), valid.data());
+        if (store_ && store_->values() == TileStore::Values::WholeMetres) {
+            // Whole metres as floats: what read() gives for such a band.
+            readMetres();
+            for (size_t k = 0; k < heights.size(); ++k) heights[k] = float(metres[k]);
+        } else if (!(store_ && store_->read(key, w, h, heights.data(), valid.data()))) {
+            reader_->read(x0, y0, w, h, heights.data(), valid.data());
+            if (store_) store_->write(key, w, h, heights.data(), valid.data());
+        }
         if (exaggeration_ != 1.0) exaggerate(reader_->path(), float(exaggeration_), heights.data(), valid.data(), valid.size());
         if (!transform_.identity()) transform(*reader_, transform_, x0, y0, w, h, heights.data());
         return std::make_shared<const HeightTile>(summary_, x0, y0, w, h, heights.data(), valid.data());
@@ -214,12 +241,13 @@ std::shared_ptr<const HeightTile> TiledDem::readTile(int64_t key) const {
 }
 
 LoadedDem openTiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options) {
-    return openTiledDem(std::make_unique<DemWindowReader>(path, options), cacheBytes, options.exaggeration);
+    return openTiledDem(std::make_unique<DemWindowReader>(path, options), cacheBytes, options.exaggeration,
+                        options.tileStore);
 }
 
-LoadedDem openTiledDem(std::unique_ptr<DemWindowReader> opened, size_t cacheBytes, double exaggeration) {
+LoadedDem openTiledDem(std::unique_ptr<DemWindowReader> opened, size_t cacheBytes, double exaggeration, bool tileStore) {
     const std::string path = opened->path();
-    auto tiles = std::make_shared<const TiledDem>(std::move(opened), cacheBytes, exaggeration);
+    auto tiles = std::make_shared<const TiledDem>(std::move(opened), cacheBytes, exaggeration, tileStore);
     const DemWindowReader& reader = tiles->reader();
     LoadedDem dem;
     dem.path = path;

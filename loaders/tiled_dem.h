@@ -7,6 +7,7 @@
 #include "heightfield/height_tile.h"
 #include "heightfield/tile_cache.h"
 #include "loaders/dem_loader.h"
+#include "loaders/tile_store.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -27,8 +28,10 @@ public:
     // Opens `path` and streams it once; throws InputError as loadDem does (but never for the raster's size).
     // Heights are those under options.exaggeration, in the summary and in every tile.
     TiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options = {});
-    // The same over a raster already open.
-    TiledDem(std::unique_ptr<DemWindowReader> reader, size_t cacheBytes, double exaggeration = 1.0);
+    // The same over a raster already open; with `tileStore`, tiles are kept decoded in a store beside the DEM
+    // (TileStore) and read from there when it holds them.
+    TiledDem(std::unique_ptr<DemWindowReader> reader, size_t cacheBytes, double exaggeration = 1.0,
+             bool tileStore = false);
     // Over a raster another TiledDem reads too, its heights under `transform` after the exaggeration (the
     // summary streamed for them, never kept in a sidecar).
     TiledDem(std::shared_ptr<const DemWindowReader> reader, size_t cacheBytes, double exaggeration,
@@ -41,6 +44,10 @@ public:
     // it was not saved).
     const std::string& summaryOrigin() const { return summaryOrigin_; }
     const TileLayout& layout() const { return layout_; }
+    // The store of decoded tiles in use (nullptr without one), and what became of it: "" when none was asked
+    // for, else its path and whether it was found or made, or why there is none.
+    const TileStore* store() const { return store_.get(); }
+    const std::string& storeOrigin() const { return storeOrigin_; }
 
     // Tile (ti, tj), from the cache or read now.
     std::shared_ptr<const HeightTile> tile(int64_t ti, int64_t tj) const override;
@@ -82,12 +89,15 @@ private:
     std::string summaryOrigin_;
     TileLayout layout_;
     std::unique_ptr<TileCache<HeightTile>> cache_;
+    std::shared_ptr<const TileStore> store_;  // shared with the transformed copies
+    std::string storeOrigin_;
 };
 
 // Opens a DEM as a tiled grid (HeightGrid::tiled) over a TiledDem whose cache holds at most `cacheBytes` of
 // tiles: everything loadDem returns, with the heights left in the file. Throws InputError as loadDem does.
 LoadedDem openTiledDem(const std::string& path, size_t cacheBytes, const DemLoadOptions& options = {});
 // The same over a raster already open, its heights under a vertical exaggeration.
-LoadedDem openTiledDem(std::unique_ptr<DemWindowReader> reader, size_t cacheBytes, double exaggeration = 1.0);
+LoadedDem openTiledDem(std::unique_ptr<DemWindowReader> reader, size_t cacheBytes, double exaggeration = 1.0,
+                       bool tileStore = false);
 
 }  // namespace terracast

@@ -6,7 +6,8 @@
 # The DEM: the Puget Sound height map resampled to SIZE x SIZE vertices (default 8193), its 16-bit codes mapped
 # to 0 to 4392 m (Mount Rainier's height), as a tiled, DEFLATE
 # GeoTIFF in UTM metres (30 m cells), made once in a temporary folder. Times are whole processes (load, trace,
-# write); ratios are taken between runs made one after the other on the same machine.
+# write); ratios are taken between runs made one after the other on the same machine. The DEM's tile store
+# (--tile-store, DEM.terracast-tiles) is made beside it in the same temporary folder.
 set -eu
 here=$(cd "$(dirname "$0")/.." && pwd)
 terracast=${1:-$here/build/terracast}
@@ -40,6 +41,11 @@ for job in "shadow --sun 135,20" "render --size 1920x1080 --sky-samples 0"; do
     tiled=$(seconds "$terracast" $job "$dem" -o "$work/tiled.$ext" --threads 2 --tile-cache "$cache")
     cmp -s "$work/whole.$ext" "$work/tiled.$ext" && same=identical || same=DIFFERENT
     echo "$name: whole grid $whole s, tiles with a cache of $cache $tiled s: tiled rate $(ratio "$whole" "$tiled") of in-memory; outputs $same"
+    # The same from the tile store (--tile-store): the first run fills it, the second reads every tile from it.
+    filling=$(seconds "$terracast" $job "$dem" -o "$work/stored.$ext" --threads 2 --tile-cache "$cache" --tile-store)
+    stored=$(seconds "$terracast" $job "$dem" -o "$work/stored.$ext" --threads 2 --tile-cache "$cache" --tile-store)
+    cmp -s "$work/whole.$ext" "$work/stored.$ext" && same=identical || same=DIFFERENT
+    echo "$name: tiles from the tile store $stored s (filling it: $filling s): rate $(ratio "$whole" "$stored") of in-memory; outputs $same"
     one=$(seconds "$terracast" $job "$dem" -o "$work/one.$ext" --threads 1)
     two=$(seconds mpirun --allow-run-as-root --oversubscribe -n 2 "$terracast" $job "$dem" -o "$work/two.$ext" --threads 1)
     cmp -s "$work/one.$ext" "$work/two.$ext" && same=identical || same=DIFFERENT

@@ -10,6 +10,7 @@
 #include <gdal_priv.h>
 
 #include <cmath>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -157,4 +158,34 @@ TEST_CASE("Tiled DEM: summaries count the tiles read and the reads the cache ans
     const ArgsResult whole = runTerracastArgs({"shadow", kHelens, "-o", dir.file("w.tif")}, settings);
     REQUIRE(whole.exitCode == 0);
     CHECK(whole.err.find("tiles: ") == std::string::npos);
+}
+
+TEST_CASE("Tiled DEM: --tile-store keeps the tiles decoded beside the DEM, and renders from it are the whole grid's",
+          "[cli][tiles]") {
+    TempDir dir("tiled-store");
+    const std::string dem = dir.file("helens.tif");
+    std::filesystem::copy_file(kHelens, dem);
+    const std::vector<std::string> stored{"--tile-cache", "500K", "--tile-store"};
+    // The first run makes the store and fills it; the second reads every tile from it. Both as the whole grid.
+    checkSameBytes(dir, {"render", dem, "--size", "160x120"}, "first.png", stored);
+    REQUIRE(std::filesystem::exists(dem + ".terracast-tiles"));
+    RunSettings settings;
+    settings.workDir = dir.path();
+    const ArgsResult again = runTerracastArgs({"render", dem, "--size", "160x120", "-o", dir.file("again.png"),
+                                               "--tile-cache", "500K", "--tile-store"}, settings);
+    INFO(again.err);
+    REQUIRE(again.exitCode == 0);
+    CHECK(slurp(dir.file("again.png")) == slurp(dir.file("whole-first.png")));
+    const size_t at = again.err.find("tiles: ");
+    REQUIRE(at != std::string::npos);
+    const long loads = std::stol(again.err.substr(at + 7));
+    CHECK(loads >= 4);
+    CHECK_THAT(again.err, Catch::Contains("(" + std::to_string(loads) + " from the tile store, 0 written to it)"));
+    CommandResult info = runTerracast("info '" + dem + "' --tile-cache 4M --tile-store");
+    CHECK(info.exitCode == 0);
+    CHECK_THAT(info.out, Catch::Contains("tile store:  found " + dem + ".terracast-tiles ("));
+    // Held whole, the option does nothing, and says so.
+    info = runTerracast("info '" + dem + "' --tile-store");
+    CHECK(info.exitCode == 0);
+    CHECK_THAT(info.err, Catch::Contains(dem + ": --tile-store has no effect: the DEM is held whole in memory"));
 }

@@ -33,11 +33,19 @@ LoadedDem loadDemSource(const DemSource& source, const RunListener& listener, bo
     lo.imageCellSizeM = source.imageCellSizeM;
     lo.imageHeightScale = source.imageHeightScale;
     lo.tileCacheBytes = source.tileCacheBytes;
+    lo.tileStore = source.tileStore;
     // Under mpirun every command that gets here runs on every rank (cli/main.cpp refuses the others).
     lo.sharedByRanks = ranks::size() > 1;
     lo.tilesUnderRanks = takesTiles;
     LoadedDem dem = loadDem(source.path, lo);
     for (const auto& w : dem.warnings) listener.warn(w);
+    if (source.tileStore) {
+        const auto* tiles = dem.grid.tiled() ? dynamic_cast<const TiledDem*>(dem.grid.tileSource()) : nullptr;
+        if (tiles == nullptr)
+            listener.warn(source.path + ": --tile-store has no effect: the DEM is held whole in memory");
+        else if (tiles->store() == nullptr)
+            listener.warn(source.path + ": no tile store: " + tiles->storeOrigin());
+    }
     return dem;
 }
 
@@ -73,7 +81,14 @@ std::string demInfoReport(const DemSource& source, const RunListener& listener) 
                            humanBytes(double(g.tileSource()->cacheBudgetBytes())),
                            g.pyramidLevels() - g.tileLevels());
         if (const auto* dem = dynamic_cast<const TiledDem*>(g.tileSource()))
+        {
             out += fmt::format("summary:     {}\n", dem->summaryOrigin());
+            if (const TileStore* store = dem->store())
+                out += fmt::format("tile store:  {} ({} of {} on disk)\n", dem->storeOrigin(),
+                                   humanBytes(double(store->diskBytes())), humanBytes(double(store->fullBytes())));
+            else if (!dem->storeOrigin().empty())
+                out += fmt::format("tile store:  {}\n", dem->storeOrigin());
+        }
     } else {
         out += "held:        whole, in memory\n";
     }
@@ -87,8 +102,20 @@ std::string tileTraffic(const HeightGrid& grid) {
     if (!grid.tiled()) return "";
     const TileCacheStats t = grid.tileSource()->cacheStats();
     const int64_t reads = t.hits + t.loads;
-    return fmt::format("tiles: {} loaded, {:.1f} % of {} reads from the cache", t.loads,
-                       reads > 0 ? 100.0 * double(t.hits) / double(reads) : 100.0, reads);
+    std::string line = fmt::format("tiles: {} loaded, {:.1f} % of {} reads from the cache", t.loads,
+                                   reads > 0 ? 100.0 * double(t.hits) / double(reads) : 100.0, reads);
+    if (const auto* tiles = dynamic_cast<const TiledDem*>(grid.tileSource()); tiles && tiles->store())
+        line += fmt::format(" ({} from the tile store, {} written to it)", tiles->store()->reads(),
+                            tiles->store()->writes());
+    return line;
+}
+
+std::string tileTimes(const HeightGrid& grid) {
+    if (!grid.tiled()) return "";
+    const TileCacheStats t = grid.tileSource()->cacheStats();
+    return fmt::format("tile cache: loading {:.4f} thread-s ({:.1f} us a tile), waiting for another thread's load "
+                       "{:.4f} thread-s", t.loadSeconds, t.loads > 0 ? 1e6 * t.loadSeconds / double(t.loads) : 0.0,
+                       t.waitSeconds);
 }
 
 std::function<void(double, int64_t)> progressWithTiles(const RunListener& listener, const HeightGrid& grid) {
@@ -406,7 +433,10 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
                               stats.seconds, stats.primaryRays, stats.shadowRays, stats.skyVisibilityRays,
                               stats.seconds > 0 ? double(rays) / stats.seconds * 1e-6 : 0.0,
                               humanBytes(peakResidentBytes()), tiles.empty() ? "" : "; " + tiles));
-    if (o.verbose) listener.tell(renderPhasesLine(phases));
+    if (o.verbose) {
+        listener.tell(renderPhasesLine(phases));
+        if (grid.tiled()) listener.tell(tileTimes(grid));
+    }
     return phases;
 }
 

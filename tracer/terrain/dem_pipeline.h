@@ -29,6 +29,7 @@ struct DemSource {
     double imageHeightScale = 1.0;  // PNG height maps: metres per stored unit
     double maxMemoryBytes = 0.0;    // refuse jobs estimated to need more; 0 = 80% of physical memory
     double tileCacheBytes = 0.0;    // > 0: hold the DEM as tiles with a cache this large (DemLoadOptions)
+    bool tileStore = false;         // held as tiles: keep them decoded beside the DEM (DemLoadOptions)
 };
 
 // Loads the DEM, passing its warnings (assumed units, large geographic extents) to the listener. A job that
@@ -44,6 +45,8 @@ std::string demInfoReport(const DemSource& source, const RunListener& listener);
 // For a DEM held as tiles, what the tile cache did: "tiles: 1234 loaded, 97.5 % of 50000 reads from the cache"
 // (empty for a DEM held whole).
 std::string tileTraffic(const HeightGrid& grid);
+// For a DEM held as tiles, the thread time its cache spent loading tiles and waiting for loads (for --verbose).
+std::string tileTimes(const HeightGrid& grid);
 
 // The listener's progress, adding the tile traffic to the progress line for a DEM held as tiles.
 std::function<void(double, int64_t)> progressWithTiles(const RunListener& listener, const HeightGrid& grid);
