@@ -100,6 +100,26 @@ TEST_CASE("MPI: two ranks render a picture's bytes as one process does", "[cli][
     CHECK(rays(two.err) == rays(one.err));
 }
 
+TEST_CASE("MPI: two ranks sharing a tile store they fill together render one process's bytes", "[cli][mpi]") {
+    if (kSanitizedBuild) return;
+    TempDir dir("mpi-store");
+    const std::string dem = dir.file("helens.tif");
+    fs::copy_file(kHelens, dem);
+    const std::string args = "render '" + dem + "' --size 200x150 --threads 1 --tile-cache 500K --tile-store";
+    const CommandResult one = runTerracast("render '" + kHelens + "' --size 200x150 --threads 1 -o '" +
+                                           dir.file("one.png") + "'");
+    REQUIRE(one.exitCode == 0);
+    // Twice: the ranks make the store and write their tiles into it at once, then both read from it.
+    for (const std::string out : {"fill.png", "read.png"}) {
+        const CommandResult two = mpirun(dir, "-n 2 " + cli() + " " + args + " -o " + out);
+        INFO(two.err);
+        REQUIRE(two.exitCode == 0);
+        CHECK(slurp(dir.file(out)) == slurp(dir.file("one.png")));
+        if (out == "read.png") CHECK_THAT(two.err, Catch::Contains(" written to it)"));
+    }
+    CHECK(fs::exists(dem + ".terracast-tiles"));
+}
+
 TEST_CASE("MPI: ranks hold a DEM that fits as tiles when the job allows, and write one process's bytes",
           "[cli][mpi]") {
     if (kSanitizedBuild) return;
