@@ -657,8 +657,16 @@ LoadedDem loadAsStored(const std::string& path, const DemLoadOptions& options) {
         // Every rank takes the same path (the whole load is collective): tiles only when every rank can.
         int64_t able = reader && reader->storedInBlocks() ? 1 : 0;
         ranks::sum(&able, 1);
-        if (able == ranks::size()) return openTiledDem(std::move(reader), size_t(cacheBytes), options.exaggeration,
-                                                        options.tileStore);
+        if (able == ranks::size()) {
+            // The DEM fits: a cache of a quarter of the whole grid's bytes (int16 codes and their pyramid, about
+            // 3 bytes a vertex) holds what a rank's part reaches more than once. A larger one only costs fresh
+            // memory for every tile, which the rank touches once: 0.3 s of a rank's 1 s render of the 8193^2
+            // grid on the machine of docs/scale.md.
+            const double quarterOfGrid = 0.75 * double(reader->width()) * double(reader->height());
+            return openTiledDem(std::move(reader), size_t(std::min(cacheBytes, std::max(quarterOfGrid,
+                                                                                       double(kMinTileCacheBytes)))),
+                                options.exaggeration, options.tileStore);
+        }
     }
     // A raster too large to hold whole is held as tiles, with a quarter of the memory left for their cache.
     try {
