@@ -115,7 +115,7 @@ std::unique_ptr<TileStore> TileStore::open(const std::string& path, const std::s
                                            Values values, std::string& why) {
     why.clear();
     if (key.empty() || key.find('\n') != std::string::npos) {
-        why = "the raster has no local files to name it by";
+        why = "the raster cannot be named by its files (an in-memory or network source, or a VRT of VRTs)";
         return nullptr;
     }
     const size_t valueBytes = values == Values::WholeMetres ? 2 : 4;

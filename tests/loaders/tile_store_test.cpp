@@ -242,5 +242,5 @@ TEST_CASE("Tile store: records of edge tiles round-trip, and a record never writ
     CHECK_FALSE(other->read(3, w, h, back.data(), backValid.data()));
     // A raster with no local file gets none.
     CHECK(TileStore::open(dir.file("t.terracast-tiles"), "", layout, TileStore::Values::FloatMetres, why) == nullptr);
-    CHECK(why == "the raster has no local files to name it by");
+    CHECK(why == "the raster cannot be named by its files (an in-memory or network source, or a VRT of VRTs)");
 }
