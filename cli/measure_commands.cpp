@@ -37,6 +37,9 @@ void addMeasureCommands(CLI::App& app, Commands& commands) {
         cmd->add_option("--methods", t->methods,
                         "Comma-separated methods (default bilinear,bilinear-double,triangles,nearest,embree,embree-grid)");
         cmd->add_option("--threads", c.threads, "Worker threads, 0 = all cores (default 0)")->check(nonNegativeInteger());
+        cmd->add_option("--lod", c.lodPixels,
+                        "Also trace bilinear under render's --lod PIXELS level of detail, as bilinear+lodPIXELS")
+            ->check(positiveNumber());
         cmd->add_option("--json", c.json, "Write the report as JSON to this file");
         cmd->add_option("--out-dir", c.outDir,
                         "Write each method's image, its difference heat map and tradeoff.svg to this folder");

@@ -66,6 +66,9 @@ void addRenderCommand(CLI::App& app, Commands& commands) {
                                   "Adaptive sampling up to --spp samples, until the standard error of a "
                                   "pixel's luminance is below this (e.g. 0.002)");
     cmd->add_option("--scale", render.scale, "Map view: output pixels per DEM cell (default 1)");
+    cmd->add_option("--lod", render.lodPixels,
+                    "Level of detail: where a cell spans fewer than this many pixels, trace a coarser grid (every "
+                    "other vertex, then every fourth, ...); faster, not exact (see compare --lod). Default: off");
     cmd->add_flag("--resume", render.resume,
                   "Map view as a GeoTIFF at scale 1: keep the output tiles an interrupted run of the same command "
                   "left in OUTPUT.partial and compute only the others");

@@ -542,6 +542,7 @@ TEST_CASE("Hostile inputs: non-finite and absurd numbers in options", "[cli][hos
         {{"render", "dem.tif", "-o", "out.png"}, "--haze"},
         {{"render", "dem.tif", "-o", "out.png"}, "--hillshade-blend"},
         {{"render", "dem.tif", "-o", "out.png", "--view", "map"}, "--scale"},
+        {{"render", "dem.tif", "-o", "out.png"}, "--lod"},
         {{"shadow", "dem.tif", "-o", "out.tif"}, "--sun-size"},
         {{"shadow", "dem.tif", "-o", "out.tif"}, "--max-distance"},
         {{"horizon", "dem.tif", "-o", "out.tif"}, "--azimuth"},
@@ -552,6 +553,7 @@ TEST_CASE("Hostile inputs: non-finite and absurd numbers in options", "[cli][hos
         {{"insolation", "dem.tif", "-o", "out.tif", "--date", "2026-06-21"}, "--linke"},
         {{"insolation", "dem.tif", "-o", "out.tif", "--date", "2026-06-21"}, "--albedo"},
         {{"compare", "dem.tif"}, "--exaggeration"},
+        {{"compare", "dem.tif"}, "--lod"},
         {{"info", "dem.tif"}, "--cell-size"},
         {{"info", "dem.tif"}, "--height-scale"},
     };

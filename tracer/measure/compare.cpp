@@ -1,11 +1,14 @@
 #include "tracer/measure/compare.h"
 
+#include "tracer/core/angles.h"
 #include "tracer/core/errors.h"
 #include "tracer/measure/svg_chart.h"
 
 #include "tracer/sky/sky.h"
 
 #include "tracer/core/parallel.h"
+
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
@@ -102,6 +105,12 @@ MethodComparison traceMethod(const HeightGrid& grid, SurfaceMethod method, const
 
 }  // namespace
 
+std::string comparisonName(const MethodComparison& m) {
+    std::string name = surfaceMethodName(m.method);
+    if (m.lodPixels > 0.0) name += fmt::format("+lod{:g}", m.lodPixels);
+    return name;
+}
+
 const std::vector<SurfaceMethod>& compareMethods() {
     static const std::vector<SurfaceMethod> methods{SurfaceMethod::Bilinear, SurfaceMethod::BilinearDouble,
                                                     SurfaceMethod::Triangles, SurfaceMethod::Nearest,
@@ -136,15 +145,30 @@ CompareReport compareSurfaces(const HeightGrid& grid, const CompareSettings& set
     std::vector<SurfaceMethod> methods = settings.methods;
     if (std::find(methods.begin(), methods.end(), settings.reference) == methods.end())
         methods.insert(methods.begin(), settings.reference);
+    const size_t count = methods.size() + (settings.lodPixels > 0.0 ? 1 : 0);
     for (size_t k = 0; k < methods.size(); ++k) {
-        if (settings.onMethod) settings.onMethod(methods[k], k, methods.size());
+        if (settings.onMethod) settings.onMethod(methods[k], k, count);
         report.methods.push_back(traceMethod(grid, methods[k], settings.render));
+    }
+    if (settings.lodPixels > 0.0) {
+        if (settings.onMethod) settings.onMethod(SurfaceMethod::Bilinear, methods.size(), count);
+        const auto start = std::chrono::steady_clock::now();
+        TerrainSurface surface(grid, SurfaceMethod::Bilinear, settings.render.threads);
+        const PinholeCamera& camera = settings.render.camera;
+        surface.setLevelOfDetail({camera.eyeM,
+                                  2.0 * std::tan(0.5 * radians(camera.fovYDeg)) / double(settings.render.height),
+                                  settings.lodPixels});
+        const double built = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        MethodComparison m = traceSurface(grid, surface, settings.render);
+        m.lodPixels = settings.lodPixels;
+        m.buildSeconds = built;  // the coarser grids (the grid's own pyramid is built with it)
+        report.methods.push_back(std::move(m));
     }
 
     const MethodComparison* ref = nullptr;
     const MethodComparison* embree = nullptr;
     for (const auto& m : report.methods) {
-        if (m.method == settings.reference) ref = &m;
+        if (m.method == settings.reference && m.lodPixels == 0.0) ref = &m;
         if (m.method == SurfaceMethod::Embree) embree = &m;
     }
     for (auto& m : report.methods) {
@@ -318,7 +342,7 @@ std::string tradeoffSvg(const CompareReport& report) {
     for (const auto& m : report.methods) {
         const double x = px(m.primaryRaysPerSecond), y = py(m.tErrorM.p99);
         svg.add("<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"#1f77b4\"/>\n<text x=\"%.1f\" y=\"%.1f\">%s</text>\n", x,
-                y, x + 8, y - 6, surfaceMethodName(m.method));
+                y, x + 8, y - 6, comparisonName(m).c_str());
     }
     return svg.finish();
 }

@@ -24,12 +24,16 @@ struct CompareSettings {
     TerrainRenderSettings render;                          // size, camera, sun, threads (method unused)
     std::vector<SurfaceMethod> methods = compareMethods();  // measured in this order
     SurfaceMethod reference = SurfaceMethod::BilinearDouble;  // compared against; measured too
+    // > 0: also the bilinear method under this level of detail (TerrainSurface::setLevelOfDetail), seen from the
+    // camera, as the last entry.
+    double lodPixels = 0.0;
     // Called before each method is traced, with its position and the number of methods (for progress).
     std::function<void(SurfaceMethod, size_t index, size_t count)> onMethod;
 };
 
 struct MethodComparison {
     SurfaceMethod method = SurfaceMethod::Bilinear;
+    double lodPixels = 0.0;            // > 0: traced under this level of detail
     double buildSeconds = 0.0;         // Embree's BVH build, or the direct tracer's pyramids
     int64_t memoryBytes = 0;           // ours from our allocations; Embree's from its memory monitor
     int64_t primaryRays = 0;
@@ -65,6 +69,9 @@ struct CompareReport {
 // there.
 MethodComparison traceSurface(const HeightGrid& grid, const TerrainSurface& surface, const TerrainRenderSettings& settings,
                               bool shade = true, int rowBegin = 0, int rowEnd = -1);
+
+// The entry's name in reports: the method's, with "+lodP" under a level of detail of P pixels.
+std::string comparisonName(const MethodComparison& m);
 
 // Traces and measures every method of `settings` (the reference is added when missing).
 CompareReport compareSurfaces(const HeightGrid& grid, const CompareSettings& settings);

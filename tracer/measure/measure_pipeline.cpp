@@ -62,8 +62,12 @@ void runCompareReport(const CompareRunOptions& o, const RunListener& listener) {
     if (!o.json.empty()) checkReportPath(o.json, o.dem.path);
     checkViewValues(o.exaggeration, o.sunElevationDeg);
     LoadedDem dem = loadDemSource(o.dem, listener, false, o.exaggeration);
+    if (o.lodPixels > 0.0 && dem.grid.tiled())
+        throw InputError(o.dem.path + ": --lod needs the DEM held in memory, and it is held as tiles (it does not fit "
+                                      "in --max-memory, or --tile-cache asks for tiles)");
     CompareSettings cs;
     cs.methods = o.methods;
+    cs.lodPixels = o.lodPixels;
     cs.render = makeView(dem.grid, o.width, o.height, o.sunAzimuthDeg, o.sunElevationDeg, o.camera, o.threads);
     {
         // Every method keeps its picture and hit distances (12 + 8 bytes per pixel) plus per-pass buffers;
@@ -72,7 +76,8 @@ void runCompareReport(const CompareRunOptions& o, const RunListener& listener) {
         for (SurfaceMethod m : cs.methods) embree = std::max(embree, embreeBytesEstimate(m, dem.grid));
         const double pixels = double(o.width) * o.height;
         checkMemory(o.dem.path, o.dem.maxMemoryBytes, dem.grid,
-                    pixels * (20.0 * double(cs.methods.size() + 1) + 120.0) + embree,
+                    pixels * (20.0 * double(cs.methods.size() + 1) + 120.0) + embree +
+                        (o.lodPixels > 0.0 ? double(dem.grid.memoryBytes()) / 3.0 : 0.0),
                     fmt::format("comparing {} methods at {}x{}", cs.methods.size(), o.width, o.height));
     }
     // No file compare writes may be the DEM, however the paths are spelt (links, "..", hard links).
@@ -116,7 +121,7 @@ void runCompareReport(const CompareRunOptions& o, const RunListener& listener) {
     for (const auto& m : r.methods)
         table += fmt::format("{:<16} {:>8.3f} {:>11} {:>9.3f} {:>9.3f} {:>10.6f} {:>10.3g} {:>10.3g} {:>10.3g} "
                              "{:>9.5f} {:>8.1f} {:>7.2f} {:>7.2f}\n",
-                             surfaceMethodName(m.method), m.buildSeconds, humanBytes(double(m.memoryBytes)),
+                             comparisonName(m), m.buildSeconds, humanBytes(double(m.memoryBytes)),
                              m.primaryRaysPerSecond * 1e-6, m.shadowRaysPerSecond * 1e-6, m.hitAgreement,
                              m.tErrorM.mean, m.tErrorM.p99, m.tErrorM.max, m.imageRmse, m.imagePsnrDb,
                              m.ratioToEmbreePrimary, m.ratioToEmbreeShadow);
@@ -127,9 +132,9 @@ void runCompareReport(const CompareRunOptions& o, const RunListener& listener) {
     if (!o.outDir.empty()) {
         const MethodComparison* ref = nullptr;
         for (const auto& m : r.methods)
-            if (m.method == r.reference) ref = &m;
+            if (m.method == r.reference && m.lodPixels == 0.0) ref = &m;
         for (const auto& m : r.methods) {
-            const std::string name = surfaceMethodName(m.method);
+            const std::string name = comparisonName(m);
             writeImage((fs::path(o.outDir) / (name + ".png")).string(), RgbImage{m.image.width, m.image.height, m.image.rgb});
             if (&m == ref) continue;
             const Film heat = differenceHeatMap(m, *ref);

@@ -36,6 +36,7 @@ struct CompareRunOptions {
     std::optional<PinholeCamera> camera;  // none = the automatic view
     std::vector<SurfaceMethod> methods = compareMethods();  // measured; the reference is always added
     int threads = 0;                   // 0 = all cores
+    double lodPixels = 0.0;            // > 0: also the bilinear method under this level of detail
     std::string json;                  // report file; empty = none
     std::string outDir;                // folder for images, heat maps and tradeoff.svg; empty = none
 };

@@ -62,7 +62,7 @@ std::string compareJson(const ReportedDem& dem, const CompareReport& r) {
             "\"shadow_rays\": {}, \"primary_rays_per_s\": {}, \"shadow_rays_per_s\": {}, \"hit_agreement\": {}, "
             "\"t_error_m\": {}, \"t_error_rel\": {}, \"image_rmse\": {}, \"image_psnr_db\": {}, "
             "\"ratio_to_embree\": {{\"primary\": {}, \"shadow\": {}}}}}",
-            k ? "," : "", surfaceMethodName(m.method), jsonNumber(m.buildSeconds), m.memoryBytes, m.primaryRays,
+            k ? "," : "", comparisonName(m), jsonNumber(m.buildSeconds), m.memoryBytes, m.primaryRays,
             m.shadowRays, jsonNumber(m.primaryRaysPerSecond), jsonNumber(m.shadowRaysPerSecond),
             jsonNumber(m.hitAgreement), errorJson(m.tErrorM), errorJson(m.tErrorRel), jsonNumber(m.imageRmse),
             // identical images have infinite PSNR; JSON has no infinity, so it is capped at 999 dB

@@ -7,6 +7,7 @@
 #include "loaders/raster_writer.h"
 #include "loaders/scene_assets.h"
 #include "loaders/crs.h"
+#include "tracer/core/angles.h"
 #include "tracer/core/errors.h"
 #include "loaders/tiled_dem.h"
 #include "tracer/core/ranks.h"
@@ -234,6 +235,7 @@ namespace {
 
 // `render --view map`: the top-down shaded relief, as a GeoTIFF on the DEM's georeference or a PNG.
 void renderMap(const DemRenderOptions& o, const RunListener& listener) {
+    if (o.lodPixels != 0.0) throw InputError("--lod: expected the perspective view, found --view map");
     // A GeoTIFF at scale 1 on a surface through the vertices is a per-vertex product on the DEM's own grid,
     // written a tile at a time (and over the ranks); a PNG or another scale is one picture held whole.
     const bool onGrid = lowerExtension(o.output) != ".png" && o.scale == 1.0 &&
@@ -319,6 +321,15 @@ void checkPerspectiveOptions(const DemRenderOptions& o) {
         throw InputError(fmt::format("--adaptive: expected an error > 0, found {}", o.adaptiveError));
     if (o.width < 1 || o.height < 1 || o.width > 65536 || o.height > 65536)
         throw InputError(fmt::format("--size: expected 1..65536 pixels a side, found {}x{}", o.width, o.height));
+    if (o.lodPixels != 0.0) {
+        if (!(o.lodPixels > 0.0 && o.lodPixels <= 1e6))
+            throw InputError(fmt::format("--lod: expected pixels per cell in (0, 1e6], found {}", o.lodPixels));
+        if (o.cameraKind != CameraKind::Pinhole)
+            throw InputError(fmt::format("--lod: expected the perspective view, found --view {}", cameraKindName(o.cameraKind)));
+        if (!directCellMethod(o.method))
+            throw InputError(fmt::format("--lod: expected a direct method (bilinear, bilinear-double, triangles, nearest), "
+                                         "found --method {}", surfaceMethodName(o.method)));
+    }
 }
 
 TerrainRenderSettings perspectiveSettings(const DemRenderOptions& o, const LoadedDem& dem, const RunListener& listener) {
@@ -375,9 +386,14 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     checkOutputPath(o.output, o.dem.path);
     checkPerspectiveOptions(o);
     if (!o.drape.empty()) checkNotInput(o.output, o.drape, "-o", "the drape");
-    // Embree's meshes read every vertex; the direct methods read only the tiles the render sees.
-    LoadedDem dem = loadDemSource(o.dem, listener, directCellMethod(o.method).has_value(), o.exaggeration);
+    // Embree's meshes read every vertex, and a level of detail's coarser grids too; the direct methods read only
+    // the tiles the render sees.
+    LoadedDem dem =
+        loadDemSource(o.dem, listener, directCellMethod(o.method).has_value() && o.lodPixels == 0.0, o.exaggeration);
     HeightGrid& grid = dem.grid;
+    if (o.lodPixels > 0.0 && grid.tiled())
+        throw InputError(o.dem.path + ": --lod needs the DEM held in memory, and it is held as tiles (it does not fit "
+                                      "in --max-memory, or --tile-cache asks for tiles)");
     TerrainRenderSettings s = perspectiveSettings(o, dem, listener);
 
     prepareImageWriter(o.output);
@@ -394,7 +410,12 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
         s.look.drape = std::make_shared<const DrapeImage>(loadDrape(o.drape, dem.geo, grid.width(), grid.height()));
     }
     const auto loaded = Clock::now();
-    const TerrainSurface surface(grid, o.method, o.threads);
+    TerrainSurface surface(grid, o.method, o.threads);
+    if (o.lodPixels > 0.0) {
+        // A pixel at the centre of the picture subtends 2 tan(fov / 2) / height radians.
+        const double radiansPerPixel = 2.0 * std::tan(0.5 * radians(s.camera.fovYDeg)) / double(o.height);
+        surface.setLevelOfDetail({s.camera.eyeM, radiansPerPixel, o.lodPixels});
+    }
     const auto built = Clock::now();
     RenderStats stats;
     s.timePhases = o.verbose;

@@ -80,6 +80,7 @@ struct DemRenderOptions {
     bool adaptive = false;                     // adaptive sampling up to max(samples, 2) per pixel ...
     double adaptiveError = 0.002;              // ... until the standard error of a pixel's luminance is below this
     double scale = 1.0;                        // map view: output pixels per DEM cell along each axis
+    double lodPixels = 0.0;                    // > 0: level of detail (TerrainSurface::setLevelOfDetail)
     bool resume = false;                       // map view GeoTIFF at scale 1: keep an interrupted run's tiles
     bool castShadows = true;                   // map view: ray-traced cast shadows
     int skySamples = -1;                       // hemisphere rays per hit (perspective) or pixel (map) for sky

@@ -14,6 +14,14 @@
 
 namespace terracast {
 
+// A level of detail (docs/architecture.md, "Level of detail"): seen from `eyeM`, where the grid's cells span
+// fewer than `pixels` pixels of a picture whose pixels subtend `radiansPerPixel` each, the surface is that of
+// a coarser grid (every other vertex, then every fourth, ...).
+struct LevelOfDetail {
+    glm::dvec3 eyeM{0.0};
+    double radiansPerPixel = 0.0;
+    double pixels = 1.0;
+};
 
 // A surface that answers nearest-hit and occlusion queries in the grid's local frame.
 class TerrainSurface {
@@ -29,6 +37,17 @@ public:
     // stretch for the whole bundle first (see terracast::intersectBundle); Embree traces them one by one.
     void intersectBundle(std::span<const Ray> rays, Interval interval,
                          std::span<std::optional<HeightFieldHit>> hits) const;
+
+    // Switches to a level of detail: builds the coarser grids (in memory: about a third of the grid's bytes) and
+    // from then on traces each stretch of a ray on the level its distance from the eye calls for. Hits are given
+    // in this grid's cells (pointM is the coarse surface's point; cellX, cellY, u and v locate it in this grid,
+    // clamped to it). Throws std::invalid_argument for Embree, a tiled grid, or settings that are not positive
+    // and finite.
+    void setLevelOfDetail(const LevelOfDetail& lod);
+    // The coarser grids in use (0 without a level of detail), and the distance from the eye from which each is
+    // used (metres, increasing).
+    int detailLevels() const { return int(coarse_.size()); }
+    const std::vector<double>& detailDistancesM() const { return fromM_; }
 
     SurfaceMethod method() const { return method_; }
     Traversal traversal() const { return traversal_; }
@@ -46,6 +65,25 @@ private:
     CellMethod cell_ = CellMethod::Bilinear;
     Traversal traversal_ = Traversal::Pyramid;
     std::unique_ptr<EmbreeTerrain> embree_;
+    // The level of detail: coarse_[k] is used from fromM_[k] metres from eye_ on (until fromM_[k + 1]).
+    std::vector<std::unique_ptr<HeightGrid>> coarse_;
+    std::vector<double> fromM_;
+    glm::dvec3 eye_{0.0};
+    glm::dvec3 boxLo_{0.0}, boxHi_{0.0};  // holds every level's surface
+
+    // Calls visit(level, stretch) for the stretches of `interval` along `ray` on which one level holds, nearest
+    // first, until it returns true; returns whether one did. Level 0 is the grid itself.
+    template <class Visit>
+    bool byLevel(const Ray& ray, Interval interval, Visit&& visit) const;
+    const HeightGrid& level(int k) const { return k == 0 ? grid_ : *coarse_[size_t(k - 1)]; }
+    // intersect with a level of detail; `fromSwitch`: the interval starts where the ray passes from one level to
+    // another (tested for lying under the new level's surface there).
+    std::optional<HeightFieldHit> intersectLevels(const Ray& ray, Interval interval, bool fromSwitch) const;
+    // Where the ray at t lies under level k's surface (the bilinear patch of its cell there): that point of the
+    // surface, as a hit at t located in this grid's cells.
+    std::optional<HeightFieldHit> underLevel(int k, const Ray& ray, double t) const;
+    // A hit on level k located in this grid's cells.
+    HeightFieldHit inFineCells(HeightFieldHit hit) const;
 };
 
 }  // namespace terracast

@@ -1,0 +1,137 @@
+// A surface under a level of detail: a level that never takes over changes no hit; rays wholly in a coarser
+// level's range hit where that coarser grid, traced on its own, is hit; a ray that passes onto a coarser level
+// under its surface meets it there.
+#include "heightfield/coarser_grid.h"
+#include "heightfield/fractal_terrain.h"
+#include "heightfield/traversal.h"
+#include "tracer/terrain/surface.h"
+
+#include <catch2/catch.hpp>
+
+#include <bit>
+#include <cmath>
+#include <random>
+#include <vector>
+
+using namespace terracast;
+
+namespace {
+
+// Rays from `eye` towards random points of the grid's area (a little beyond it too).
+std::vector<Ray> raysAt(const HeightGrid& g, const glm::dvec3& eye, int n, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> ux(-0.05 * g.extentXM(), 1.05 * g.extentXM()),
+        uy(-0.05 * g.extentYM(), 1.05 * g.extentYM()), uz(g.minHeightM(), g.maxHeightM());
+    std::vector<Ray> rays;
+    for (int k = 0; k < n; ++k) rays.push_back(Ray{eye, glm::normalize(glm::dvec3(ux(rng), uy(rng), uz(rng)) - eye)});
+    return rays;
+}
+
+bool sameHit(const std::optional<HeightFieldHit>& a, const std::optional<HeightFieldHit>& b) {
+    if (a.has_value() != b.has_value()) return false;
+    return !a || (std::bit_cast<uint64_t>(a->t) == std::bit_cast<uint64_t>(b->t) && a->cellX == b->cellX &&
+                  a->cellY == b->cellY);
+}
+
+}  // namespace
+
+TEST_CASE("Level of detail: a level that never takes over changes no hit, bundle or not", "[terrain][lod]") {
+    FractalTerrainOptions o;
+    o.size = 129;
+    const HeightGrid g = fractalTerrain(o);
+    const glm::dvec3 eye{-800.0, -600.0, 2500.0};
+    const TerrainSurface exact(g, SurfaceMethod::Bilinear);
+    TerrainSurface lod(g, SurfaceMethod::Bilinear);
+    // Cells span one pixel only beyond 1000 km: the coarse levels exist but nothing reaches them.
+    lod.setLevelOfDetail({eye, 30.0 / 1e6, 1.0});
+    REQUIRE(lod.detailLevels() >= 6);
+    CHECK(lod.detailDistancesM().front() == Approx(1e6));
+    const std::vector<Ray> rays = raysAt(g, eye, 2000, 7);
+    int differ = 0, hits = 0, single = 0, bundled = 0, occ = 0;
+    std::vector<std::optional<HeightFieldHit>> bundle(rays.size()), exactBundle(rays.size());
+    lod.intersectBundle(rays, {0.0, kInfinity}, bundle);
+    exact.intersectBundle(rays, {0.0, kInfinity}, exactBundle);
+    for (size_t k = 0; k < rays.size(); ++k) {
+        const auto e = exact.intersect(rays[k], {0.0, kInfinity});
+        hits += e.has_value();
+        single += !sameHit(lod.intersect(rays[k], {0.0, kInfinity}), e);
+        bundled += !sameHit(bundle[k], exactBundle[k]);
+        occ += lod.occluded(rays[k], {0.0, kInfinity}) != exact.occluded(rays[k], {0.0, kInfinity});
+    }
+    differ = single + bundled + occ;
+    INFO(single << " single, " << bundled << " bundled, " << occ << " occlusion");
+    CHECK(hits > 1000);
+    CHECK(differ == 0);
+}
+
+TEST_CASE("Level of detail: rays wholly in a coarser level's range hit that grid as traced on its own",
+          "[terrain][lod]") {
+    FractalTerrainOptions o;
+    o.size = 257;
+    const HeightGrid g = fractalTerrain(o);  // 7.68 km a side
+    // From 40 km away every point of the grid lies between 36 and 48 km from the eye: with level k taking over at
+    // 2^(k-1) * 30 m / (radians per pixel * pixels), a pixel angle that puts level 2's start at 30 km and level 3's
+    // at 60 km gives level 2 to all of it.
+    const glm::dvec3 eye{3840.0 - 40000.0 * std::cos(0.3), 3840.0 - 40000.0 * std::sin(0.3), 9000.0};
+    const double anglePixels = 60.0 / 30000.0;
+    TerrainSurface lod(g, SurfaceMethod::Bilinear);
+    lod.setLevelOfDetail({eye, anglePixels, 1.0});
+    REQUIRE(lod.detailDistancesM().size() >= 3);
+    CHECK(lod.detailDistancesM()[1] == Approx(30000.0));
+    CHECK(lod.detailDistancesM()[2] == Approx(60000.0));
+    const HeightGrid level2 = coarserGrid(coarserGrid(g));
+    const std::vector<Ray> rays = raysAt(g, eye, 3000, 11);
+    int hits = 0, differ = 0, occlusion = 0;
+    std::vector<std::optional<HeightFieldHit>> bundle(rays.size());
+    lod.intersectBundle(rays, {0.0, kInfinity}, bundle);
+    for (size_t k = 0; k < rays.size(); ++k) {
+        const auto want = intersect(level2, rays[k], {0.0, kInfinity}, CellMethod::Bilinear);
+        const auto got = lod.intersect(rays[k], {0.0, kInfinity});
+        hits += want.has_value();
+        for (const auto& h : {got, bundle[k]}) {
+            differ += h.has_value() != want.has_value();
+            if (h && want) {
+                differ += std::bit_cast<uint64_t>(h->t) != std::bit_cast<uint64_t>(want->t);
+                // Located in the fine grid's cells.
+                differ += h->cellX != std::min<int64_t>(int64_t(h->pointM.x / 30.0), g.cellsX() - 1);
+                differ += h->cellY != std::min<int64_t>(int64_t(h->pointM.y / 30.0), g.cellsY() - 1);
+            }
+        }
+        occlusion += lod.occluded(rays[k], {0.0, kInfinity}) !=
+                     occluded(level2, rays[k], {0.0, kInfinity}, CellMethod::Bilinear);
+    }
+    CHECK(hits > 1500);
+    CHECK(differ == 0);
+    CHECK(occlusion == 0);
+    // The fine grid's own hits are not those: the level of detail did take over.
+    int fineDiffer = 0;
+    for (const Ray& r : rays) fineDiffer += !sameHit(intersect(g, r, {0.0, kInfinity}, CellMethod::Bilinear),
+                                                     intersect(level2, r, {0.0, kInfinity}, CellMethod::Bilinear));
+    CHECK(fineDiffer > 500);
+}
+
+TEST_CASE("Level of detail: a ray that passes onto a coarser level under its surface meets it there",
+          "[terrain][lod]") {
+    // Ridges of 100 m on even columns, valleys of 0 m on odd ones: the coarse grid keeps only the ridges (100 m
+    // everywhere). A level ray at 50 m along an odd column's valley floor meets nothing on the fine grid, and
+    // enters the coarse level's range under its surface.
+    const int64_t n = 65;
+    std::vector<float> z(size_t(n * n));
+    for (int64_t j = 0; j < n; ++j)
+        for (int64_t i = 0; i < n; ++i) z[size_t(j * n + i)] = i % 2 == 0 ? 100.0f : 0.0f;
+    const HeightGrid g(n, n, 10.0, 10.0, std::move(z));
+    const Ray ray{{330.0, -50.0, 50.0}, {0.0, 1.0, 0.0}};
+    REQUIRE_FALSE(intersect(g, ray, {0.0, kInfinity}, CellMethod::Bilinear));
+    TerrainSurface lod(g, SurfaceMethod::Bilinear);
+    // Level 1 from 300 m from the eye (the ray's origin) on.
+    lod.setLevelOfDetail({ray.origin, 10.0 / 300.0, 1.0});
+    REQUIRE(lod.detailDistancesM().front() == Approx(300.0));
+    const auto hit = lod.intersect(ray, {0.0, kInfinity});
+    REQUIRE(hit);
+    CHECK(hit->t == Approx(300.0));
+    CHECK(hit->pointM.z == Approx(100.0));
+    CHECK(hit->normal.z == Approx(1.0));
+    CHECK(hit->cellY == 25);
+    CHECK(lod.occluded(ray, {0.0, kInfinity}));
+    CHECK_FALSE(lod.occluded(ray, {0.0, 299.0}));
+}
