@@ -194,10 +194,11 @@ void TerrainSurface::intersectBundle(std::span<const Ray> rays, Interval interva
 bool TerrainSurface::occluded(const Ray& ray, Interval interval) const {
     if (embree_) return embree_->occluded(ray, interval);
     if (coarse_.empty()) return terracast::occluded(grid_, ray, interval, cell_, nullptr, traversal_);
-    return byLevel(ray, interval, [&](int k, Interval stretch) {
-        if (stretch.lo > interval.lo && underLevel(k, ray, stretch.lo)) return true;
-        return terracast::occluded(level(k), ray, stretch, cell_, nullptr, traversal_);
-    });
+    // The whole ray on the level of where it starts: occlusion rays leave a hit (shadow and sky-visibility rays)
+    // and test the surface they left; cutting them where they cross levels costs a walk's set-up per stretch.
+    const glm::dvec3 start = ray.origin + std::max(interval.lo, 0.0) * ray.dir;
+    const int k = int(std::upper_bound(fromM_.begin(), fromM_.end(), glm::length(start - eye_)) - fromM_.begin());
+    return terracast::occluded(level(k), ray, interval, cell_, nullptr, traversal_);
 }
 
 int64_t TerrainSurface::memoryBytes() const {

@@ -1,6 +1,6 @@
 // A surface under a level of detail: a level that never takes over changes no hit; rays wholly in a coarser
 // level's range hit where that coarser grid, traced on its own, is hit; a ray that passes onto a coarser level
-// under its surface meets it there.
+// under its surface meets it there; occlusion rays are traced on the level where they start.
 #include "heightfield/coarser_grid.h"
 #include "heightfield/fractal_terrain.h"
 #include "heightfield/traversal.h"
@@ -81,7 +81,7 @@ TEST_CASE("Level of detail: rays wholly in a coarser level's range hit that grid
     CHECK(lod.detailDistancesM()[2] == Approx(60000.0));
     const HeightGrid level2 = coarserGrid(coarserGrid(g));
     const std::vector<Ray> rays = raysAt(g, eye, 3000, 11);
-    int hits = 0, differ = 0, occlusion = 0;
+    int hits = 0, differ = 0, occlusion = 0, shadowed = 0;
     std::vector<std::optional<HeightFieldHit>> bundle(rays.size());
     lod.intersectBundle(rays, {0.0, kInfinity}, bundle);
     for (size_t k = 0; k < rays.size(); ++k) {
@@ -97,9 +97,14 @@ TEST_CASE("Level of detail: rays wholly in a coarser level's range hit that grid
                 differ += h->cellY != std::min<int64_t>(int64_t(h->pointM.y / 30.0), g.cellsY() - 1);
             }
         }
-        occlusion += lod.occluded(rays[k], {0.0, kInfinity}) !=
-                     occluded(level2, rays[k], {0.0, kInfinity}, CellMethod::Bilinear);
+        // An occlusion ray from that hit, on the level where it starts: level 2's.
+        if (want) {
+            const Ray up{want->pointM + glm::dvec3(0.0, 0.0, 0.01), glm::normalize(glm::dvec3(0.3, 0.4, 0.25 + 0.001 * double(k % 50)))};
+            occlusion += lod.occluded(up, {0.0, kInfinity}) != occluded(level2, up, {0.0, kInfinity}, CellMethod::Bilinear);
+            shadowed += occluded(level2, up, {0.0, kInfinity}, CellMethod::Bilinear);
+        }
     }
+    CHECK(shadowed > 100);
     CHECK(hits > 1500);
     CHECK(differ == 0);
     CHECK(occlusion == 0);
@@ -132,6 +137,12 @@ TEST_CASE("Level of detail: a ray that passes onto a coarser level under its sur
     CHECK(hit->pointM.z == Approx(100.0));
     CHECK(hit->normal.z == Approx(1.0));
     CHECK(hit->cellY == 25);
-    CHECK(lod.occluded(ray, {0.0, kInfinity}));
-    CHECK_FALSE(lod.occluded(ray, {0.0, 299.0}));
+    // Occlusion rays are traced whole on the level where they start: a ray descending along the valley misses
+    // the fine grid (it would reach 0 m past its far edge) and meets the coarse one's 100 m.
+    const glm::dvec3 down = glm::normalize(glm::dvec3(0.0, 1.0, -0.2));
+    const Ray nearRay{{330.0, 0.0, 150.0}, down}, farRay{{330.0, 350.0, 150.0}, down};
+    REQUIRE_FALSE(occluded(g, nearRay, {0.0, kInfinity}, CellMethod::Bilinear));
+    REQUIRE_FALSE(occluded(g, farRay, {0.0, kInfinity}, CellMethod::Bilinear));
+    CHECK_FALSE(lod.occluded(nearRay, {0.0, kInfinity}));  // starts 112 m from the eye: the fine grid
+    CHECK(lod.occluded(farRay, {0.0, kInfinity}));         // starts 412 m from the eye: level 1
 }
