@@ -34,7 +34,7 @@ std::vector<uint8_t> pixels(const std::string& png, int& width, int& height) {
 
 }  // namespace
 
-TEST_CASE("Level of detail: render --lod changes some pixels, not most; refused where it cannot apply",
+TEST_CASE("Level of detail: render --lod changes some pixels but not most, and is refused where it cannot apply",
           "[cli][lod]") {
     TempDir dir("lod-cli");
     const std::string base = "render '" + kHelens + "' --size 200x150 --sky-samples 0 --threads 2 -o '";
