@@ -40,12 +40,12 @@ for job in "shadow --sun 135,20" "render --size 1920x1080 --sky-samples 0"; do
     whole=$(seconds "$terracast" $job "$dem" -o "$work/whole.$ext" --threads 2)
     tiled=$(seconds "$terracast" $job "$dem" -o "$work/tiled.$ext" --threads 2 --tile-cache "$cache")
     cmp -s "$work/whole.$ext" "$work/tiled.$ext" && same=identical || same=DIFFERENT
-    echo "$name: whole grid $whole s, tiles with a cache of $cache $tiled s: tiled rate $(ratio "$whole" "$tiled") of in-memory; outputs $same"
+    echo "$name: whole process, grid in memory $whole s, as tiles with a cache of $cache $tiled s: time ratio $(ratio "$whole" "$tiled") (the in-memory run includes reading the whole DEM; the rays' rates are in each summary line); outputs $same"
     # The same from the tile store (--tile-store): the first run fills it, the second reads every tile from it.
     filling=$(seconds "$terracast" $job "$dem" -o "$work/stored.$ext" --threads 2 --tile-cache "$cache" --tile-store)
     stored=$(seconds "$terracast" $job "$dem" -o "$work/stored.$ext" --threads 2 --tile-cache "$cache" --tile-store)
     cmp -s "$work/whole.$ext" "$work/stored.$ext" && same=identical || same=DIFFERENT
-    echo "$name: tiles from the tile store $stored s (filling it: $filling s): rate $(ratio "$whole" "$stored") of in-memory; outputs $same"
+    echo "$name: as tiles from the tile store $stored s (the run filling it: $filling s): time ratio $(ratio "$whole" "$stored"); outputs $same"
     one=$(seconds "$terracast" $job "$dem" -o "$work/one.$ext" --threads 1)
     two=$(seconds mpirun --allow-run-as-root --oversubscribe -n 2 "$terracast" $job "$dem" -o "$work/two.$ext" --threads 1)
     cmp -s "$work/one.$ext" "$work/two.$ext" && same=identical || same=DIFFERENT
