@@ -81,8 +81,8 @@ uint64_t recordChecksum(const void* heights, int64_t heightsLength, const std::v
     // depend on how the record was split.
     const size_t whole = size_t(heightsLength) / 32 * 32;
     c.add(static_cast<const unsigned char*>(heights), whole);
-    std::vector<unsigned char> rest(static_cast<const unsigned char*>(heights) + whole,
-                                    static_cast<const unsigned char*>(heights) + heightsLength);
+    thread_local std::vector<unsigned char> rest;  // kept: this runs for every tile read and written
+    rest.assign(static_cast<const unsigned char*>(heights) + whole, static_cast<const unsigned char*>(heights) + heightsLength);
     rest.insert(rest.end(), tail.begin(), tail.end() - 8);
     c.add(rest.data(), rest.size());
     return c.value();

@@ -11,6 +11,11 @@
 
 namespace terracast {
 
+namespace {
+// Coarser grids a level of detail builds at most (a grid of 2^17 cells a side would need 17).
+constexpr size_t kMaxDetailLevels = 16;
+}  // namespace
+
 TerrainSurface::TerrainSurface(const HeightGrid& grid, SurfaceMethod method, int threads, Traversal traversal)
     : grid_(grid), method_(method), cell_(directCellMethod(method).value_or(CellMethod::Bilinear)), traversal_(traversal) {
     if (method == SurfaceMethod::Embree)
@@ -31,7 +36,7 @@ void TerrainSurface::setLevelOfDetail(const LevelOfDetail& lod) {
     // A cell of size c at distance d spans about c / (d * radiansPerPixel) pixels: level k + 1 takes over where
     // level k's cells span fewer than `pixels`. Levels stop at a grid of 2 x 2 cells.
     const HeightGrid* finer = &grid_;
-    while (finer->width() >= 3 && finer->height() >= 3 && coarse_.size() < 16) {
+    while (finer->width() >= 3 && finer->height() >= 3 && coarse_.size() < kMaxDetailLevels) {
         const double cellM = std::min(finer->cellSizeXM(), finer->cellSizeYM());
         fromM_.push_back(cellM / (lod.radiansPerPixel * lod.pixels));
         coarse_.push_back(std::make_unique<HeightGrid>(coarserGrid(*finer)));
@@ -75,7 +80,7 @@ bool TerrainSurface::byLevel(const Ray& ray, Interval interval, Visit&& visit) c
     // distance is convex in t, so each D cuts the ray at most twice.
     const glm::dvec3 oe = ray.origin - eye_;
     const double a = glm::dot(ray.dir, ray.dir), b = 2.0 * glm::dot(ray.dir, oe), c0 = glm::dot(oe, oe);
-    double cuts[2 * 16 + 2];
+    double cuts[2 * kMaxDetailLevels + 2];  // each level's start cuts a ray at most twice
     int n = 0;
     cuts[n++] = interval.lo;
     for (const double d : fromM_) {
