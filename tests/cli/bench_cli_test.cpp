@@ -163,7 +163,7 @@ TEST_CASE("CLI: bench on a 65 x 65 grid reports every method on both cameras", "
 }
 
 TEST_CASE("CLI: bench --methods measures the methods asked for, in report order, with embree as reference",
-          "[cli][bench]") {
+          "[cli][bench][heavy]") {
     TempDir dir("bench-cli");
     const std::string json = (dir.path() / "methods.json").string();
     const auto r = runTerracast("bench --sizes 17 --threads 1 --repeat 1 --methods embree-grid,triangles --json '" + json + "'");

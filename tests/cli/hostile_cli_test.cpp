@@ -349,7 +349,7 @@ TEST_CASE("Hostile inputs: DEMs that are not regular readable rasters", "[cli][h
 }
 
 TEST_CASE("Hostile inputs: DEMs cut short, corrupted, or holding impossible heights and georeferences",
-          "[cli][hostile]") {
+          "[cli][hostile][heavy]") {
     const std::vector<std::pair<std::string, std::pair<std::string, std::string>>> inputs = {
         {"GeoTIFF cut in half", {"truncated.tif", "truncated.tif: cannot read rows 0..467 of band 1"}},
         {"GeoTIFF header alone", {"header-only.tif", "header-only.tif: not a raster GDAL can read"}},
@@ -369,7 +369,7 @@ TEST_CASE("Hostile inputs: DEMs cut short, corrupted, or holding impossible heig
     runCases("dem-content", acrossDemCommands(inputs));
 }
 
-TEST_CASE("Hostile scene files: impossible values, broken text, and outputs over inputs", "[cli][hostile]") {
+TEST_CASE("Hostile scene files: impossible values, broken text, and outputs over inputs", "[cli][hostile][heavy]") {
     const std::vector<std::tuple<std::string, std::string, std::string>> scenes = {
         {"a NaN radius", "nan-radius", "nan-radius.toml:4:10: radius: expected a finite number in (0, 1e+09], found nan"},
         {"an infinite centre", "inf-center", "inf-center.toml:3:11: center[0]: expected a finite number in [-1e+09, 1e+09], found inf"},

@@ -50,7 +50,7 @@ void checkSameBytes(const TempDir& dir, std::vector<std::string> args, const std
 const std::vector<std::string> kFewTiles{"--tile-cache", "500K"};
 
 TEST_CASE("Tiled DEM: every map product from a cache of a few tiles is the whole grid's, byte for byte",
-          "[cli][tiles]") {
+          "[cli][tiles][heavy]") {
     TempDir dir("tiled-cli");
     const std::vector<std::string>& tiles = kFewTiles;
     checkSameBytes(dir, {"shadow", kHelens, "--sun", "135,20"}, "shadow.tif", tiles);

@@ -28,7 +28,7 @@ size_t tilesIn(const fs::path& folder) {
 
 }  // namespace
 
-TEST_CASE("Tiled outputs: an interrupted or killed map job resumes to the same bytes", "[cli][tiles]") {
+TEST_CASE("Tiled outputs: an interrupted or killed map job resumes to the same bytes", "[cli][tiles][heavy]") {
     TempDir dir("tiled-output");
     // 1025 x 1025 vertices: 3 x 3 output tiles, on one thread so that the job lasts a few tiles' time.
     const std::vector<std::string> job{"horizon", kPuget, "--azimuths", "0:360:360", "--threads", "1", "-o"};

@@ -116,7 +116,7 @@ TEST_CASE("Pyramid levels bound every cell's valid heights", "[heightfield][pyra
     CHECK(g.blockMinM(2, 0, 0) >= lo - step);
 }
 
-TEST_CASE("Pyramid traversal gives exactly the flat walk's hits on real DEMs", "[heightfield][pyramid]") {
+TEST_CASE("Pyramid traversal gives exactly the flat walk's hits on real DEMs", "[heightfield][pyramid][heavy]") {
     requireSameHits(sample("usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif").grid, 20000, 1, true);
     requireSameHits(sample("srtm3-n43e007-nice-maritime-alps-coast-geographic-int16.tif").grid, 20000, 2, true);
     DemLoadOptions png;

@@ -65,7 +65,7 @@ void checkAgainstLoad(const std::string& path, int cacheTiles, double k = 1.0) {
 }  // namespace
 
 TEST_CASE("Tiled DEM: every vertex and cell flag equals the whole load's with a cache of a few tiles",
-          "[loaders][tiles]") {
+          "[loaders][tiles][heavy]") {
     // St Helens: 2 x 2 tiles (the edge ones part-filled), nodata along its edges; the White Mountains: 5 x 5 tiles, geographic; Nice: sea
     // and land in a geographic tile.
     checkAgainstLoad(sample("usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif"), 1);

@@ -163,7 +163,7 @@ TEST_CASE("A sphere moving across the shutter covers each pixel on its path for 
     }
 }
 
-TEST_CASE("A thin lens blurs a point off the focus plane over the predicted circle of confusion", "[distribution]") {
+TEST_CASE("A thin lens blurs a point off the focus plane over the predicted circle of confusion", "[distribution][heavy]") {
     // Camera at the origin looking north, focused at 10 m with a 0.1 m lens radius, fov 10 degrees over 200
     // pixels. A small black ball on a white sky: at the focus distance it keeps its own size; at 5 m it spreads
     // by the circle of confusion, 2 a |z - f| / z on the focus plane, seen from the lens.

@@ -62,7 +62,7 @@ int64_t windowMismatches(const HeightGrid& grid, const MapRaster& whole,
 
 }  // namespace
 
-TEST_CASE("Map windows: every product over windows holds the whole grid's values", "[maps][tiles]") {
+TEST_CASE("Map windows: every product over windows holds the whole grid's values", "[maps][tiles][heavy]") {
     const LoadedDem dem = loadDem(kHelens);
     const HeightGrid& g = dem.grid;
     REQUIRE(g.hasNodata());

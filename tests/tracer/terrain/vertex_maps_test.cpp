@@ -295,7 +295,7 @@ TEST_CASE("Vertex maps: horizons agree with a brute-force march over a real DEM'
     }
 }
 
-TEST_CASE("Vertex maps: occlusion walks and horizon walks agree at every vertex", "[tracer][maps]") {
+TEST_CASE("Vertex maps: occlusion walks and horizon walks agree at every vertex", "[tracer][maps][heavy]") {
     // Two different traversals answer the same question: a direction from a vertex is blocked (the occlusion walk
     // of blockedFromVertex) exactly when it lies below the vertex's horizon (the horizon walk of horizonMap). On
     // two real DEMs with holes, along the axes (grid lines beside holes) and at azimuths off the axes. (Not at an
