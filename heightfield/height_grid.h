@@ -95,6 +95,15 @@ struct HeightTransform {
     }
 };
 
+// The heights and validity of a coarser grid (heightfield/coarser_grid.h), row-major, as a tile source may keep
+// them between runs.
+struct CoarseHeights {
+    int64_t width = 0;
+    int64_t height = 0;
+    std::vector<float> heightsM;  // 0 at nodata vertices
+    std::vector<uint8_t> valid;   // one flag per vertex
+};
+
 // Where a tiled grid's tiles come from (docs/architecture.md, "Tiled grids"): tile (ti, tj) holds cells
 // [ti * kTileCells, (ti + 1) * kTileCells) x .. (height_tile.h). Must be safe to call from several threads.
 class TileSource {
@@ -112,6 +121,11 @@ public:
     virtual std::shared_ptr<const TileSource> transformed(const HeightTransform&, GridSummary&) const {
         return nullptr;
     }
+    // The grid `levels` steps coarser as kept from an earlier run (a sidecar beside the DEM), when this source
+    // keeps one that describes its heights as they are now; and the offer of one just made, to keep. A source
+    // that keeps nothing answers nothing and ignores the offer.
+    virtual std::optional<CoarseHeights> keptCoarseHeights(int /*levels*/) const { return std::nullopt; }
+    virtual void keepCoarseHeights(int /*levels*/, const CoarseHeights& /*heights*/) const {}
 
 private:
     uint64_t serial_;

@@ -12,6 +12,7 @@
 
 #include <bit>
 #include <cctype>
+#include <cmath>
 #include <chrono>
 #include <cstring>
 #include <filesystem>
@@ -146,6 +147,54 @@ std::string writeSummarySidecar(const std::string& sidecarPath, const std::strin
     append(out, f);
     out.append(reinterpret_cast<const char*>(s.tileMaxCodes.data()), s.tileMaxCodes.size() * sizeof(int16_t));
     out.append(reinterpret_cast<const char*>(s.tileMinCodes.data()), s.tileMinCodes.size() * sizeof(int16_t));
+    try {
+        writeFileAtomically(sidecarPath, out);
+    } catch (const std::exception& e) {
+        return e.what();
+    }
+    return "";
+}
+
+namespace {
+constexpr char kCoarseFormatLine[] = "terracast coarse grid 1\n";
+}  // namespace
+
+std::string coarseSidecarPath(const std::string& demPath, double exaggeration, int levels) {
+    if (exaggeration == 1.0) return fmt::format("{}.terracast-lod{}", demPath, levels);
+    return fmt::format("{}.x{}.terracast-lod{}", demPath, exaggeration, levels);
+}
+
+std::optional<CoarseHeights> readCoarseSidecar(const std::string& sidecarPath, const std::string& key) {
+    if (key.empty()) return std::nullopt;
+    std::ifstream file(sidecarPath, std::ios::binary);
+    if (!file) return std::nullopt;
+    const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    std::string_view in(text);
+    const std::string head = std::string(kCoarseFormatLine) + key + "\n";
+    if (in.substr(0, head.size()) != head) return std::nullopt;
+    in.remove_prefix(head.size());
+    CoarseHeights c;
+    if (!take(in, c.width) || !take(in, c.height) || c.width < 2 || c.height < 2 || c.width > (int64_t(1) << 31) ||
+        c.height > (int64_t(1) << 31))
+        return std::nullopt;
+    const size_t n = size_t(c.width) * size_t(c.height);
+    if (in.size() != n * (sizeof(float) + 1)) return std::nullopt;
+    c.heightsM.resize(n);
+    std::memcpy(c.heightsM.data(), in.data(), n * sizeof(float));
+    c.valid.assign(in.begin() + std::ptrdiff_t(n * sizeof(float)), in.end());
+    // What a grid would refuse (a valid height that is not finite, a flag other than 0 or 1) is a damaged file.
+    for (size_t k = 0; k < n; ++k)
+        if (c.valid[k] > 1 || (c.valid[k] && !std::isfinite(c.heightsM[k]))) return std::nullopt;
+    return c;
+}
+
+std::string writeCoarseSidecar(const std::string& sidecarPath, const std::string& key, const CoarseHeights& c) {
+    if (key.empty()) return "its files cannot all be checked for changes";
+    std::string out = std::string(kCoarseFormatLine) + key + "\n";
+    append(out, c.width);
+    append(out, c.height);
+    out.append(reinterpret_cast<const char*>(c.heightsM.data()), c.heightsM.size() * sizeof(float));
+    out.append(reinterpret_cast<const char*>(c.valid.data()), c.valid.size());
     try {
         writeFileAtomically(sidecarPath, out);
     } catch (const std::exception& e) {

@@ -30,4 +30,12 @@ std::optional<GridSummary> readSummarySidecar(const std::string& sidecarPath, co
 // it could not (a read-only folder): the sidecar is a cache, and a DEM opens without it.
 std::string writeSummarySidecar(const std::string& sidecarPath, const std::string& key, const GridSummary& summary);
 
+// A level of detail's coarser grid of the DEM (heightfield/coarser_grid.h), `levels` steps coarser, kept beside
+// it the same way: ".terracast-lodLEVELS" appended to the DEM's path (after ".xFACTOR" under an exaggeration),
+// keyed as the summary is.
+std::string coarseSidecarPath(const std::string& demPath, double exaggeration, int levels);
+std::optional<CoarseHeights> readCoarseSidecar(const std::string& sidecarPath, const std::string& key);
+// Returns "" or why it could not write.
+std::string writeCoarseSidecar(const std::string& sidecarPath, const std::string& key, const CoarseHeights& heights);
+
 }  // namespace terracast

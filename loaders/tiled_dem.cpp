@@ -142,6 +142,18 @@ TiledDem::TiledDem(std::shared_ptr<const DemWindowReader> reader, size_t cacheBy
         cacheBytes, [this](int64_t key) { return readTile(key); }, [](const HeightTile& t) { return t.bytes(); });
 }
 
+std::optional<CoarseHeights> TiledDem::keptCoarseHeights(int levels) const {
+    if (!transform_.identity()) return std::nullopt;
+    return readCoarseSidecar(coarseSidecarPath(reader_->path(), exaggeration_, levels), keyFor(*reader_));
+}
+
+void TiledDem::keepCoarseHeights(int levels, const CoarseHeights& heights) const {
+    if (!transform_.identity() || !ranks::leader()) return;
+    const DeferExitOnCancel finishWriting;
+    // A cache: a folder that cannot be written to costs the next run one more read of every tile.
+    (void)writeCoarseSidecar(coarseSidecarPath(reader_->path(), exaggeration_, levels), keyFor(*reader_), heights);
+}
+
 std::string TiledDem::keyFor(const DemWindowReader& reader) const {
     std::string key = summaryKey(reader);
     if (!key.empty() && exaggeration_ != 1.0) key += fmt::format(" exaggeration {:.17g};", exaggeration_);

@@ -65,6 +65,10 @@ public:
     size_t cacheBudgetBytes() const override { return cache_->budgetBytes(); }
     // A TiledDem over the same raster under `t` (nullptr for one already transformed).
     std::shared_ptr<const TileSource> transformed(const HeightTransform& t, GridSummary& summary) const override;
+    // A level of detail's coarser grids, kept in a sidecar beside the DEM (summary_sidecar.h) under the summary's
+    // key; none for transformed heights. Only the leader of an MPI launch writes one.
+    std::optional<CoarseHeights> keptCoarseHeights(int levels) const override;
+    void keepCoarseHeights(int levels, const CoarseHeights& heights) const override;
 
 private:
     std::shared_ptr<const HeightTile> vertexTile(int64_t i, int64_t j) const {

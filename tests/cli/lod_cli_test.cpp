@@ -1,5 +1,6 @@
 // `render --lod` and `compare --lod` through the executable: the level of detail changes some pixels and not
-// most, is refused where it cannot apply, and compare reports it beside the exact methods.
+// most, is refused where it cannot apply, works over a DEM held as tiles, and compare reports it beside the
+// exact methods.
 #include "support/run_command.h"
 #include "support/temp_dir.h"
 
@@ -66,8 +67,45 @@ TEST_CASE("Level of detail: render --lod changes some pixels but not most, and i
     refused("--lod 2 --view panorama", "--lod: expected the perspective view, found --view panorama");
     refused("--lod 2 --method embree",
             "--lod: expected a direct method (bilinear, bilinear-double, triangles, nearest), found --method embree");
-    refused("--lod 2 --tile-cache 500K", kHelens + ": --lod needs the DEM held in memory, and it is held as tiles "
-                                                   "(it does not fit in --max-memory, or --tile-cache asks for tiles)");
+}
+
+TEST_CASE("Level of detail: render --lod over a DEM held as tiles keeps the coarser grids its cache can hold",
+          "[cli][lod][tiles]") {
+    TempDir dir("lod-tiles-cli");
+    const std::string base = "render '" + kHelens + "' --size 200x150 --sky-samples 0 --threads 2 --lod 0.5 --verbose -o '";
+    const CommandResult whole = runTerracast(base + dir.file("whole.png") + "'");
+    INFO(whole.err);
+    REQUIRE(whole.exitCode == 0);
+    CHECK_THAT(whole.err, Catch::Contains("the first keeping every other vertex"));
+    // The DEM is 2 x 2 tiles. A cache of 500 KiB holds every coarser grid (about 290 KiB): the same levels as in
+    // memory, the same picture.
+    const CommandResult roomy = runTerracast(base + dir.file("roomy.png") + "' --tile-cache 500K");
+    INFO(roomy.err);
+    REQUIRE(roomy.exitCode == 0);
+    CHECK_THAT(roomy.err, Catch::Contains("the first keeping every other vertex"));
+    CHECK_THAT(roomy.err, Catch::Contains("tiles: "));
+    int w = 0, h = 0, w2 = 0, h2 = 0;
+    CHECK(pixels(dir.file("whole.png"), w, h) == pixels(dir.file("roomy.png"), w2, h2));
+    // A cache of 150 KiB: level 1 does not fit, level 2 (every 4th vertex) does, and takes over where level 1
+    // would have ended; the tiles serve what is nearer.
+    const CommandResult tight = runTerracast(base + dir.file("tight.png") + "' --tile-cache 150K");
+    INFO(tight.err);
+    REQUIRE(tight.exitCode == 0);
+    CHECK_THAT(tight.err, Catch::Contains("the first keeping every 4th vertex"));
+    CHECK_THAT(tight.err, Catch::Contains("coarser grids 1 to 1 would not fit in the tile cache"));
+    const CommandResult exact =
+        runTerracast("render '" + kHelens + "' --size 200x150 --sky-samples 0 --threads 2 -o '" + dir.file("exact.png") + "'");
+    REQUIRE(exact.exitCode == 0);
+    const auto a = pixels(dir.file("exact.png"), w, h), b = pixels(dir.file("tight.png"), w2, h2), c = pixels(dir.file("whole.png"), w2, h2);
+    int64_t tightDiffer = 0, wholeDiffer = 0;
+    for (size_t k = 0; k < a.size(); k += 3) {
+        tightDiffer += std::abs(a[k] - b[k]) + std::abs(a[k + 1] - b[k + 1]) + std::abs(a[k + 2] - b[k + 2]) > 6;
+        wholeDiffer += std::abs(a[k] - c[k]) + std::abs(a[k + 1] - c[k + 1]) + std::abs(a[k + 2] - c[k + 2]) > 6;
+    }
+    INFO(tightDiffer << " and " << wholeDiffer << " pixels differ from the exact picture");
+    // Fewer coarse levels, and the first of them farther out: nearer the exact picture than the whole grid's.
+    CHECK(tightDiffer > 0);
+    CHECK(tightDiffer < wholeDiffer);
 }
 
 TEST_CASE("Level of detail: compare --lod reports the coarse surface beside the exact methods", "[cli][lod]") {

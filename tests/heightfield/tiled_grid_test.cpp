@@ -2,12 +2,14 @@
 // pyramid bounds at every level, and for every ray the same hit bits, the same occlusion verdict and the same
 // walk (cells visited and tested, blocks skipped), across tile edges, nodata holes that straddle them and rays
 // running along the grid lines between tiles.
+#include "heightfield/coarser_grid.h"
 #include "heightfield/fractal_terrain.h"
 #include "heightfield/grid_summary.h"
 #include "heightfield/height_tile.h"
 #include "heightfield/shading_normals.h"
 #include "heightfield/tile_cache.h"
 #include "heightfield/traversal.h"
+#include "support/cut_tiles.h"
 #include "support/sanitizers.h"
 
 #include <catch2/catch.hpp>
@@ -18,65 +20,10 @@
 #include <random>
 
 using namespace terracast;
+using terracast::testing::CutTiles;
 using terracast::testing::kSweepDivisor;
 
 namespace {
-
-// The tiles of a whole grid, cut on request into a cache of `budget` bytes: a tile source that shares no code
-// with the grid's own pyramid or storage choice (the summary comes from GridSummaryBuilder, the tiles from
-// HeightTile).
-class CutTiles : public TileSource {
-public:
-    // With `wholeMetres`, tiles are made from 16-bit heights as a 16-bit DEM in metres makes them.
-    CutTiles(const HeightGrid& whole, size_t budget, bool wholeMetres = false)
-        : wholeMetres_(wholeMetres), heights_(whole.copyHeights()), valid_(size_t(whole.width() * whole.height()), 1),
-          layout_{whole.width(), whole.height()},
-          cache_(budget, [this](int64_t key) { return cut(key); }, [](const HeightTile& t) { return t.bytes(); }) {
-        for (int64_t j = 0; j < whole.height(); ++j)
-            for (int64_t i = 0; i < whole.width(); ++i) valid_[size_t(j * whole.width() + i)] = whole.vertexValid(i, j);
-        // Scale hint 0.1: the whole grids built below with tenths get the same hint.
-        GridSummaryBuilder builder(whole.width(), whole.height(), 0.1);
-        // In bands of 37 rows, which tile edges do not align with.
-        for (int64_t j0 = 0; j0 < whole.height(); j0 += 37) {
-            const int64_t rows = std::min<int64_t>(37, whole.height() - j0);
-            builder.addRows(j0, rows, heights_.data() + j0 * whole.width(), valid_.data() + j0 * whole.width());
-        }
-        summary_ = builder.finish();
-    }
-    std::shared_ptr<const HeightTile> tile(int64_t ti, int64_t tj) const override {
-        return cache_.get(layout_.key(ti, tj));
-    }
-    TileCacheStats cacheStats() const override { return cache_.stats(); }
-    size_t cacheBudgetBytes() const override { return cache_.budgetBytes(); }
-    const GridSummary& summary() const { return summary_; }
-
-private:
-    std::shared_ptr<const HeightTile> cut(int64_t key) const {
-        const int64_t ti = key % layout_.tilesX(), tj = key / layout_.tilesX();
-        const int64_t x0 = layout_.firstVertexX(ti), y0 = layout_.firstVertexY(tj);
-        const int64_t w = layout_.verticesX(ti), h = layout_.verticesY(tj);
-        std::vector<float> z(size_t(w * h));
-        std::vector<uint8_t> ok(z.size());
-        for (int64_t j = 0; j < h; ++j)
-            for (int64_t i = 0; i < w; ++i) {
-                z[size_t(j * w + i)] = heights_[size_t((y0 + j) * layout_.width + x0 + i)];
-                ok[size_t(j * w + i)] = valid_[size_t((y0 + j) * layout_.width + x0 + i)];
-            }
-        if (wholeMetres_) {
-            std::vector<int16_t> metres(z.size());
-            for (size_t k = 0; k < z.size(); ++k) metres[k] = ok[k] ? int16_t(z[k]) : int16_t{0};
-            return std::make_shared<const HeightTile>(summary_, x0, y0, w, h, metres.data(), ok.data());
-        }
-        return std::make_shared<const HeightTile>(summary_, x0, y0, w, h, z.data(), ok.data());
-    }
-
-    bool wholeMetres_ = false;
-    std::vector<float> heights_;
-    std::vector<uint8_t> valid_;
-    TileLayout layout_;
-    GridSummary summary_;
-    mutable TileCache<HeightTile> cache_;
-};
 
 enum class Heights { Float, WholeMetres, Tenths };
 
@@ -280,4 +227,52 @@ TEST_CASE("Tiled grid: what needs the whole grid is refused", "[heightfield][til
     CHECK(tiled.vertexValid(256, 256) == whole.vertexValid(256, 256));
     CHECK(tiled.cellValid(255, 250) == whole.cellValid(255, 250));
     CHECK(tiled.at(699, 599) == whole.at(699, 599));
+}
+
+TEST_CASE("Tiled grid: a level of detail's coarser grids read from a cache of one tile are the whole grid's",
+          "[heightfield][tiles][lod]") {
+    for (Heights kind : {Heights::Float, Heights::WholeMetres, Heights::Tenths}) {
+        const HeightGrid whole = testGrid(kind);
+        const size_t tileBytes = CutTiles(whole, size_t(1) << 30).tile(0, 0)->bytes();
+        auto tiles = std::make_shared<CutTiles>(whole, tileBytes + tileBytes / 2, kind == Heights::WholeMetres);
+        const HeightGrid tiled(tiles->summary(), 10.0, 10.0, tiles);
+        // The whole grid's levels, one step at a time (coarserGrid, tested on its own), against each level made
+        // in one pass from the tiles, on two threads sharing the one-tile cache.
+        HeightGrid step = coarserGrid(whole);
+        for (int level = 1; level <= 4; ++level) {
+            INFO("storage " << int(whole.storage()) << ", level " << level);
+            const int64_t loadsBefore = tiles->cacheStats().loads;
+            const HeightGrid coarse = coarserGrid(tiled, level, 2);
+            // No tile of the 3 x 3 read twice (a thread's memo of its last tiles may spare a read).
+            CHECK(tiles->cacheStats().loads - loadsBefore <= 9);
+            REQUIRE(coarse.width() == step.width());
+            REQUIRE(coarse.height() == step.height());
+            CHECK(coarse.cellSizeXM() == step.cellSizeXM());
+            CHECK(coarse.cellSizeYM() == step.cellSizeYM());
+            int64_t differ = 0, holes = 0;
+            for (int64_t j = 0; j < step.height(); ++j)
+                for (int64_t i = 0; i < step.width(); ++i) {
+                    differ += coarse.vertexValid(i, j) != step.vertexValid(i, j);
+                    holes += !step.vertexValid(i, j);
+                    if (step.vertexValid(i, j)) differ += bits(coarse.at(i, j)) != bits(step.at(i, j));
+                }
+            CHECK(differ == 0);
+            // The holes straddling tile edges leave some coarse vertices out at the finer levels.
+            if (level <= 2) CHECK(holes > 0);
+            // The same in one pass from the whole grid.
+            const HeightGrid direct = coarserGrid(whole, level);
+            int64_t directDiffer = 0;
+            for (int64_t j = 0; j < step.height(); ++j)
+                for (int64_t i = 0; i < step.width(); ++i)
+                    if (step.vertexValid(i, j)) directDiffer += bits(direct.at(i, j)) != bits(step.at(i, j));
+            CHECK(directDiffer == 0);
+            step = coarserGrid(step);
+        }
+    }
+    // The vertices kept along an axis: every other one, the last clamped, then again.
+    CHECK(coarseVertexIndices(10, 1) == std::vector<int64_t>{0, 2, 4, 6, 8, 9});
+    CHECK(coarseVertexIndices(10, 2) == std::vector<int64_t>{0, 4, 8, 9});
+    CHECK(coarseVertexIndices(10, 3) == std::vector<int64_t>{0, 8, 9});
+    CHECK(coarseVertexIndices(10, 4) == std::vector<int64_t>{0, 9});
+    CHECK_THROWS_AS(coarseVertexIndices(10, 5), GridError);
 }

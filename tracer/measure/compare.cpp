@@ -146,13 +146,18 @@ CompareReport compareSurfaces(const HeightGrid& grid, const CompareSettings& set
     if (std::find(methods.begin(), methods.end(), settings.reference) == methods.end())
         methods.insert(methods.begin(), settings.reference);
     const size_t count = methods.size() + (settings.lodPixels > 0.0 ? 1 : 0);
+    // Tiles read from the DEM so far (a DEM held as tiles).
+    const auto loads = [&grid] { return grid.tiled() ? grid.tileSource()->cacheStats().loads : int64_t(-1); };
     for (size_t k = 0; k < methods.size(); ++k) {
         if (settings.onMethod) settings.onMethod(methods[k], k, count);
+        const int64_t before = loads();
         report.methods.push_back(traceMethod(grid, methods[k], settings.render));
+        if (grid.tiled()) report.methods.back().tileLoads = loads() - before;
     }
     if (settings.lodPixels > 0.0) {
         if (settings.onMethod) settings.onMethod(SurfaceMethod::Bilinear, methods.size(), count);
         const auto start = std::chrono::steady_clock::now();
+        const int64_t before = loads();
         TerrainSurface surface(grid, SurfaceMethod::Bilinear, settings.render.threads);
         const PinholeCamera& camera = settings.render.camera;
         surface.setLevelOfDetail({camera.eyeM,
@@ -162,6 +167,7 @@ CompareReport compareSurfaces(const HeightGrid& grid, const CompareSettings& set
         MethodComparison m = traceSurface(grid, surface, settings.render);
         m.lodPixels = settings.lodPixels;
         m.buildSeconds = built;  // the coarser grids (the grid's own pyramid is built with it)
+        if (grid.tiled()) m.tileLoads = loads() - before;  // the coarser grids' reads too
         report.methods.push_back(std::move(m));
     }
 

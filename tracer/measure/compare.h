@@ -49,6 +49,7 @@ struct MethodComparison {
     double imagePsnrDb = 0.0;          // 20 log10(1 / rmse); infinite for identical images
     double ratioToEmbreePrimary = 0.0; // primary rays/s over Embree's, this run (NaN when Embree was not run)
     double ratioToEmbreeShadow = 0.0;  // the same for shadow rays
+    int64_t tileLoads = -1;            // DEM tiles read while built and traced (-1: the DEM is held in memory)
     Film image;                        // the method's picture
     std::vector<double> hitT;          // primary hit distance per pixel, NaN for a miss
 };

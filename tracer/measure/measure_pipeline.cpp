@@ -2,6 +2,7 @@
 
 #include "loaders/image_io.h"
 #include "loaders/output_paths.h"
+#include "heightfield/height_tile.h"
 #include "tracer/core/errors.h"
 #include "tracer/core/resources.h"
 #include "tracer/core/text.h"
@@ -62,9 +63,6 @@ void runCompareReport(const CompareRunOptions& o, const RunListener& listener) {
     if (!o.json.empty()) checkReportPath(o.json, o.dem.path);
     checkViewValues(o.exaggeration, o.sunElevationDeg);
     LoadedDem dem = loadDemSource(o.dem, listener, false, o.exaggeration);
-    if (o.lodPixels > 0.0 && dem.grid.tiled())
-        throw InputError(o.dem.path + ": --lod needs the DEM held in memory, and it is held as tiles (it does not fit "
-                                      "in --max-memory, or --tile-cache asks for tiles)");
     CompareSettings cs;
     cs.methods = o.methods;
     cs.lodPixels = o.lodPixels;
@@ -77,7 +75,7 @@ void runCompareReport(const CompareRunOptions& o, const RunListener& listener) {
         const double pixels = double(o.width) * o.height;
         checkMemory(o.dem.path, o.dem.maxMemoryBytes, dem.grid,
                     pixels * (20.0 * double(cs.methods.size() + 1) + 120.0) + embree +
-                        (o.lodPixels > 0.0 ? double(dem.grid.memoryBytes()) / 3.0 : 0.0),
+                        (o.lodPixels > 0.0 ? levelOfDetailBytes(dem.grid) : 0.0),
                     fmt::format("comparing {} methods at {}x{}", cs.methods.size(), o.width, o.height));
     }
     // No file compare writes may be the DEM, however the paths are spelt (links, "..", hard links).
@@ -127,6 +125,13 @@ void runCompareReport(const CompareRunOptions& o, const RunListener& listener) {
                              m.ratioToEmbreePrimary, m.ratioToEmbreeShadow);
     table += fmt::format("({:.1f} s in all, peak memory {}; x prim / x shad: rays per second over embree's, this run)\n",
                          seconds, humanBytes(peakResidentBytes()));
+    if (dem.grid.tiled()) {
+        // A DEM held as tiles: what each method read of it (a level of detail's coarser grids read every tile once).
+        table += "tiles read from the DEM:";
+        for (const auto& m : r.methods) table += fmt::format(" {} {}{}", comparisonName(m), m.tileLoads, &m == &r.methods.back() ? "" : ",");
+        table += fmt::format(" (of {} tiles, a cache of {})\n", TileLayout{dem.grid.width(), dem.grid.height()}.tileCount(),
+                             humanBytes(double(dem.grid.tileSource()->cacheBudgetBytes())));
+    }
     listener.print(table);
 
     if (!o.outDir.empty()) {

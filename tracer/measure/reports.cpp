@@ -61,13 +61,13 @@ std::string compareJson(const ReportedDem& dem, const CompareReport& r) {
             "{}\n  {{\"name\": \"{}\", \"build_s\": {}, \"memory_bytes\": {}, \"primary_rays\": {}, "
             "\"shadow_rays\": {}, \"primary_rays_per_s\": {}, \"shadow_rays_per_s\": {}, \"hit_agreement\": {}, "
             "\"t_error_m\": {}, \"t_error_rel\": {}, \"image_rmse\": {}, \"image_psnr_db\": {}, "
-            "\"ratio_to_embree\": {{\"primary\": {}, \"shadow\": {}}}}}",
+            "\"ratio_to_embree\": {{\"primary\": {}, \"shadow\": {}}}{}}}",
             k ? "," : "", comparisonName(m), jsonNumber(m.buildSeconds), m.memoryBytes, m.primaryRays,
             m.shadowRays, jsonNumber(m.primaryRaysPerSecond), jsonNumber(m.shadowRaysPerSecond),
             jsonNumber(m.hitAgreement), errorJson(m.tErrorM), errorJson(m.tErrorRel), jsonNumber(m.imageRmse),
             // identical images have infinite PSNR; JSON has no infinity, so it is capped at 999 dB
             jsonNumber(std::min(m.imagePsnrDb, 999.0)), jsonNumber(m.ratioToEmbreePrimary),
-            jsonNumber(m.ratioToEmbreeShadow));
+            jsonNumber(m.ratioToEmbreeShadow), m.tileLoads >= 0 ? fmt::format(", \"tile_loads\": {}", m.tileLoads) : "");
     }
     return j + "\n ]}\n";
 }

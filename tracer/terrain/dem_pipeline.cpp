@@ -379,6 +379,21 @@ std::string renderPhasesLine(const RenderPhaseSeconds& p) {
 
 namespace {
 
+// What --verbose tells of a level of detail.
+std::string levelOfDetailLine(const TerrainSurface& surface) {
+    if (surface.detailLevels() == 0) return "level of detail: none (the grid has no coarser level)";
+    const int first = surface.firstDetailLevel();
+    return fmt::format("level of detail: {} coarser grids in memory ({}), the first keeping every {} vertex, "
+                       "traced from {:.0f} m from the eye on{}",
+                       surface.detailLevels(), humanBytes(double(surface.detailBytes())),
+                       first == 1 ? std::string("other") : fmt::format("{}th", int64_t(1) << first),
+                       surface.detailDistancesM().front(),
+                       first > 1 ? fmt::format("; the DEM's tiles nearer (coarser grids 1 to {} would not fit in the "
+                                               "tile cache)",
+                                               first - 1)
+                                 : std::string());
+}
+
 // `render` without --view map.
 RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListener& listener) {
     using Clock = std::chrono::steady_clock;
@@ -386,14 +401,10 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     checkOutputPath(o.output, o.dem.path);
     checkPerspectiveOptions(o);
     if (!o.drape.empty()) checkNotInput(o.output, o.drape, "-o", "the drape");
-    // Embree's meshes read every vertex, and a level of detail's coarser grids too; the direct methods read only
-    // the tiles the render sees.
-    LoadedDem dem =
-        loadDemSource(o.dem, listener, directCellMethod(o.method).has_value() && o.lodPixels == 0.0, o.exaggeration);
+    // Embree's meshes read every vertex; the direct methods read only the tiles the render sees (and a level of
+    // detail's coarser grids each tile once).
+    LoadedDem dem = loadDemSource(o.dem, listener, directCellMethod(o.method).has_value(), o.exaggeration);
     HeightGrid& grid = dem.grid;
-    if (o.lodPixels > 0.0 && grid.tiled())
-        throw InputError(o.dem.path + ": --lod needs the DEM held in memory, and it is held as tiles (it does not fit "
-                                      "in --max-memory, or --tile-cache asks for tiles)");
     TerrainRenderSettings s = perspectiveSettings(o, dem, listener);
 
     prepareImageWriter(o.output);
@@ -402,7 +413,7 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     const double drapeBytes = draped ? 12.0 * double(grid.width()) * double(grid.height()) : 0.0;
     checkMemory(o.dem.path, o.dem.maxMemoryBytes, grid,
                 double(o.width) * o.height * (kFilmBytesPerPixel + kEncodeBytesPerPixel) + embreeBytesEstimate(o.method, grid) +
-                    drapeBytes,
+                    drapeBytes + (o.lodPixels > 0.0 ? levelOfDetailBytes(grid) : 0.0),
                 fmt::format("rendering {}x{} with {}{}", o.width, o.height, surfaceMethodName(o.method),
                             draped ? " and a drape" : ""));
     if (draped) {
@@ -415,6 +426,7 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
         // A pixel at the centre of the picture subtends 2 tan(fov / 2) / height radians.
         const double radiansPerPixel = 2.0 * std::tan(0.5 * radians(s.camera.fovYDeg)) / double(o.height);
         surface.setLevelOfDetail({s.camera.eyeM, radiansPerPixel, o.lodPixels});
+        if (o.verbose) listener.tell(levelOfDetailLine(surface));
     }
     const auto built = Clock::now();
     RenderStats stats;

@@ -15,6 +15,10 @@ double embreeBytesEstimate(SurfaceMethod m, const HeightGrid& grid) {
     return 0.0;
 }
 
+double levelOfDetailBytes(const HeightGrid& grid) {
+    return grid.tiled() ? double(grid.tileSource()->cacheBudgetBytes()) : double(grid.memoryBytes()) / 3.0;
+}
+
 void checkMemory(const std::string& path, double maxMemoryBytes, const HeightGrid& grid, double extraBytes,
                  const std::string& what) {
     const double limit = memoryLimitBytes(maxMemoryBytes);

@@ -16,6 +16,10 @@ inline constexpr double kFilmBytesPerPixel = 12.0;
 // geometry); 0 for the direct methods, which add nothing to the grid.
 double embreeBytesEstimate(SurfaceMethod method, const HeightGrid& grid);
 
+// The most a level of detail's coarser grids of `grid` hold (TerrainSurface::setLevelOfDetail): a third of the
+// grid's bytes, or for a grid held as tiles its tile cache's budget.
+double levelOfDetailBytes(const HeightGrid& grid);
+
 // Bytes per pixel of a picture written as PNG or EXR beyond its film: the 8-bit or half copy handed to the
 // encoder and the encoded bytes, held at once.
 inline constexpr double kEncodeBytesPerPixel = 12.0;

@@ -167,7 +167,7 @@ glm::vec3 TerrainShader::hit(const HeightFieldHit& hit, const Ray& ray, int px, 
     // surface's to say (sunShadowRay), so smooth shading changes no shadow.
     glm::dvec3 n = facingNormal(hit, ray.dir);
     if (smoothNormals_) {
-        const glm::dvec3 smooth = smoothNormal(grid_, hit.cellX, hit.cellY, hit.u, hit.v);
+        const glm::dvec3 smooth = surface_.smoothNormalAt(hit);
         n = glm::dot(hit.normal, ray.dir) > 0.0 ? -smooth : smooth;
     }
     const glm::vec3 albedo = this->albedo(hit);

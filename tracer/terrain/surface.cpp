@@ -1,6 +1,7 @@
 #include "tracer/terrain/surface.h"
 
 #include "heightfield/coarser_grid.h"
+#include "heightfield/shading_normals.h"
 
 #include <algorithm>
 #include <array>
@@ -17,7 +18,8 @@ constexpr size_t kMaxDetailLevels = 16;
 }  // namespace
 
 TerrainSurface::TerrainSurface(const HeightGrid& grid, SurfaceMethod method, int threads, Traversal traversal)
-    : grid_(grid), method_(method), cell_(directCellMethod(method).value_or(CellMethod::Bilinear)), traversal_(traversal) {
+    : grid_(grid), method_(method), cell_(directCellMethod(method).value_or(CellMethod::Bilinear)), traversal_(traversal),
+      threads_(threads) {
     if (method == SurfaceMethod::Embree)
         embree_ = std::make_unique<EmbreeTerrain>(grid, EmbreeLayout::TriangleMesh, threads);
     if (method == SurfaceMethod::EmbreeGrid) embree_ = std::make_unique<EmbreeTerrain>(grid, EmbreeLayout::Grid, threads);
@@ -25,7 +27,6 @@ TerrainSurface::TerrainSurface(const HeightGrid& grid, SurfaceMethod method, int
 
 void TerrainSurface::setLevelOfDetail(const LevelOfDetail& lod) {
     if (embree_) throw std::invalid_argument("a level of detail is for the direct tracer's methods, not Embree's");
-    if (grid_.tiled()) throw std::invalid_argument("a level of detail needs the DEM held in memory, not as tiles");
     if (!(lod.radiansPerPixel > 0.0) || !(lod.pixels > 0.0) || !std::isfinite(lod.radiansPerPixel * lod.pixels) ||
         !std::isfinite(lod.eyeM.x + lod.eyeM.y + lod.eyeM.z))
         throw std::invalid_argument("a level of detail needs a positive, finite pixel angle and pixel count");
@@ -35,12 +36,31 @@ void TerrainSurface::setLevelOfDetail(const LevelOfDetail& lod) {
     float low = grid_.minHeightM(), high = grid_.maxHeightM();
     // A cell of size c at distance d spans about c / (d * radiansPerPixel) pixels: level k + 1 takes over where
     // level k's cells span fewer than `pixels`. Levels stop at a grid of 2 x 2 cells.
+    // A grid held as tiles keeps in memory only the levels from firstDetailLevel_ on, the first whose grids
+    // (together about 4/3 of its own bytes) fit in the tile cache's budget; it is made by reading every tile once.
+    // The fine grid's tiles serve the levels before it, which therefore begins where level firstDetailLevel_ - 1
+    // would have ended.
+    firstDetailLevel_ = 1;
+    if (grid_.tiled()) {
+        const double budget = double(grid_.tileSource()->cacheBudgetBytes());
+        while (true) {
+            const int64_t w = int64_t(coarseVertexIndices(grid_.width(), firstDetailLevel_).size()),
+                          h = int64_t(coarseVertexIndices(grid_.height(), firstDetailLevel_).size());
+            if (4.0 / 3.0 * coarseGridBytes(w, h) <= budget || w < 3 || h < 3 ||
+                firstDetailLevel_ >= int(kMaxDetailLevels))
+                break;
+            ++firstDetailLevel_;
+        }
+    }
     const HeightGrid* finer = &grid_;
+    double finerCellM = std::min(grid_.cellSizeXM(), grid_.cellSizeYM()) * double(int64_t(1) << (firstDetailLevel_ - 1));
     while (finer->width() >= 3 && finer->height() >= 3 && coarse_.size() < kMaxDetailLevels) {
-        const double cellM = std::min(finer->cellSizeXM(), finer->cellSizeYM());
-        fromM_.push_back(cellM / (lod.radiansPerPixel * lod.pixels));
-        coarse_.push_back(std::make_unique<HeightGrid>(coarserGrid(*finer)));
+        fromM_.push_back(finerCellM / (lod.radiansPerPixel * lod.pixels));
+        coarse_.push_back(std::make_unique<HeightGrid>(finer == &grid_ && grid_.tiled()
+                                                           ? coarserGrid(grid_, firstDetailLevel_, threads_)
+                                                           : coarserGrid(*finer)));
         finer = coarse_.back().get();
+        finerCellM = std::min(finer->cellSizeXM(), finer->cellSizeYM());
         low = std::min(low, finer->minHeightM());
         high = std::max(high, finer->maxHeightM());
     }
@@ -50,6 +70,27 @@ void TerrainSurface::setLevelOfDetail(const LevelOfDetail& lod) {
     boxLo_ = {-pad, -pad, double(low) - zPad};
     boxHi_ = {std::max(grid_.extentXM(), finer->extentXM()) + pad, std::max(grid_.extentYM(), finer->extentYM()) + pad,
               double(high) + zPad};
+}
+
+glm::dvec3 TerrainSurface::smoothNormalAt(const HeightFieldHit& hit) const {
+    if (!coarse_.empty()) {
+        const double dist = glm::length(hit.pointM - eye_);
+        const int k = int(std::upper_bound(fromM_.begin(), fromM_.end(), dist) - fromM_.begin());
+        if (k > 0) {
+            const HeightGrid& g = level(k);
+            const double x = hit.pointM.x * g.cellsPerMetreX(), y = hit.pointM.y * g.cellsPerMetreY();
+            const int64_t i = std::clamp<int64_t>(int64_t(std::floor(x)), 0, g.cellsX() - 1);
+            const int64_t j = std::clamp<int64_t>(int64_t(std::floor(y)), 0, g.cellsY() - 1);
+            return smoothNormal(g, i, j, std::clamp(x - double(i), 0.0, 1.0), std::clamp(y - double(j), 0.0, 1.0));
+        }
+    }
+    return smoothNormal(grid_, hit.cellX, hit.cellY, hit.u, hit.v);
+}
+
+size_t TerrainSurface::detailBytes() const {
+    size_t bytes = 0;
+    for (const auto& g : coarse_) bytes += g->memoryBytes();
+    return bytes;
 }
 
 template <class Visit>

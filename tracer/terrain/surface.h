@@ -41,13 +41,23 @@ public:
     // Switches to a level of detail: builds the coarser grids (in memory: about a third of the grid's bytes) and
     // from then on traces each stretch of a ray on the level its distance from the eye calls for. Hits are given
     // in this grid's cells (pointM is the coarse surface's point; cellX, cellY, u and v locate it in this grid,
-    // clamped to it). Throws std::invalid_argument for Embree, a tiled grid, or settings that are not positive
-    // and finite.
+    // clamped to it). A grid held as tiles keeps only the coarser grids that fit in its tile cache's budget (from
+    // firstDetailLevel() on, made by reading each tile once) and serves the finer levels from its tiles. Throws
+    // std::invalid_argument for Embree or settings that are not positive and finite.
     void setLevelOfDetail(const LevelOfDetail& lod);
     // The coarser grids in use (0 without a level of detail), and the distance from the eye from which each is
     // used (metres, increasing).
     int detailLevels() const { return int(coarse_.size()); }
+    // How many steps coarser than the grid the first of them is (1 but for a grid held as tiles), and the bytes
+    // they hold.
+    int firstDetailLevel() const { return firstDetailLevel_; }
+    size_t detailBytes() const;
     const std::vector<double>& detailDistancesM() const { return fromM_; }
+
+    // The smooth shading normal (heightfield/shading_normals.h) at a hit this surface returned: the grid's, or
+    // under a level of detail that of the level the hit's distance from the eye calls for, so that a distant hit
+    // reads the coarse grid it lies on rather than the grid's tiles.
+    glm::dvec3 smoothNormalAt(const HeightFieldHit& hit) const;
 
     SurfaceMethod method() const { return method_; }
     Traversal traversal() const { return traversal_; }
@@ -64,10 +74,12 @@ private:
     SurfaceMethod method_;
     CellMethod cell_ = CellMethod::Bilinear;
     Traversal traversal_ = Traversal::Pyramid;
+    int threads_ = 0;
     std::unique_ptr<EmbreeTerrain> embree_;
     // The level of detail: coarse_[k] is used from fromM_[k] metres from eye_ on (until fromM_[k + 1]).
     std::vector<std::unique_ptr<HeightGrid>> coarse_;
     std::vector<double> fromM_;
+    int firstDetailLevel_ = 1;
     glm::dvec3 eye_{0.0};
     glm::dvec3 boxLo_{0.0}, boxHi_{0.0};  // holds every level's surface
 

@@ -3,7 +3,9 @@
 // under its surface meets it there; occlusion rays are traced on the level where they start.
 #include "heightfield/coarser_grid.h"
 #include "heightfield/fractal_terrain.h"
+#include "heightfield/shading_normals.h"
 #include "heightfield/traversal.h"
+#include "support/cut_tiles.h"
 #include "tracer/terrain/surface.h"
 
 #include <catch2/catch.hpp>
@@ -14,6 +16,7 @@
 #include <vector>
 
 using namespace terracast;
+using terracast::testing::CutTiles;
 
 namespace {
 
@@ -145,4 +148,82 @@ TEST_CASE("Level of detail: a ray that passes onto a coarser level under its sur
     REQUIRE_FALSE(occluded(g, farRay, {0.0, kInfinity}, CellMethod::Bilinear));
     CHECK_FALSE(lod.occluded(nearRay, {0.0, kInfinity}));  // starts 112 m from the eye: the fine grid
     CHECK(lod.occluded(farRay, {0.0, kInfinity}));         // starts 412 m from the eye: level 1
+}
+
+TEST_CASE("Level of detail over a grid held as tiles: the levels that fit its cache, the tiles nearer",
+          "[terrain][lod][tiles]") {
+    FractalTerrainOptions o;
+    o.size = 1025;  // 30 m cells, 30.7 km a side: 4 x 4 tiles
+    const HeightGrid whole = fractalTerrain(o);
+    const glm::dvec3 eye{-3000.0, -2000.0, 4000.0};
+    // Level k takes over at 2^(k-1) * 30 m / (radians per pixel): level 1 from 3 km, level 2 from 6 km, level 3
+    // from 12 km.
+    const double anglePixels = 30.0 / 3000.0;
+    TerrainSurface wholeLod(whole, SurfaceMethod::Bilinear);
+    wholeLod.setLevelOfDetail({eye, anglePixels, 1.0});
+    REQUIRE(wholeLod.firstDetailLevel() == 1);
+    const std::vector<Ray> rays = raysAt(whole, eye, 3000, 17);
+
+    SECTION("a cache that holds every coarser grid: the whole grid's levels, hit for hit") {
+        auto tiles = std::make_shared<CutTiles>(whole, size_t(64) << 20);
+        const HeightGrid tiled(tiles->summary(), 30.0, 30.0, tiles);
+        TerrainSurface lod(tiled, SurfaceMethod::Bilinear, 2);
+        lod.setLevelOfDetail({eye, anglePixels, 1.0});
+        CHECK(lod.firstDetailLevel() == 1);
+        CHECK(lod.detailDistancesM() == wholeLod.detailDistancesM());
+        int differ = 0, hits = 0;
+        for (const Ray& r : rays) {
+            const auto want = wholeLod.intersect(r, {0.0, kInfinity});
+            hits += want.has_value();
+            differ += !sameHit(lod.intersect(r, {0.0, kInfinity}), want);
+            if (want) differ += lod.smoothNormalAt(*want) != wholeLod.smoothNormalAt(*want);
+        }
+        CHECK(hits > 1500);
+        CHECK(differ == 0);
+    }
+    SECTION("a cache of a few tiles: the first coarse level that fits, from where it takes over") {
+        // The budget of level 3's grid and those above: 129 x 129 vertices.
+        const size_t budget = size_t(4.0 / 3.0 * coarseGridBytes(129, 129)) + 1024;
+        auto tiles = std::make_shared<CutTiles>(whole, budget);
+        const HeightGrid tiled(tiles->summary(), 30.0, 30.0, tiles);
+        TerrainSurface lod(tiled, SurfaceMethod::Bilinear, 2);
+        lod.setLevelOfDetail({eye, anglePixels, 1.0});
+        CHECK(lod.firstDetailLevel() == 3);
+        REQUIRE(lod.detailDistancesM().size() >= 2);
+        // Level 3 from where level 2 would have ended: 12 km.
+        CHECK(lod.detailDistancesM()[0] == Approx(12000.0));
+        CHECK(lod.detailDistancesM()[1] == Approx(24000.0));
+        CHECK(lod.detailBytes() <= budget);
+        const TerrainSurface exact(whole, SurfaceMethod::Bilinear);
+        const HeightGrid level3 = coarserGrid(coarserGrid(coarserGrid(whole)));
+        // Rays that end before 12 km hit the grid itself; a stretch of a ray wholly between 12 and 24 km meets
+        // level 3's surface as it is traced on its own.
+        int near = 0, nearDiffer = 0, mid = 0, midDiffer = 0;
+        for (const Ray& r : rays) {
+            const auto e = exact.intersect(r, {0.0, kInfinity});
+            if (e && e->t < 11000.0) {
+                ++near;
+                nearDiffer += !sameHit(lod.intersect(r, {0.0, 11000.0}), exact.intersect(r, {0.0, 11000.0}));
+                nearDiffer += lod.smoothNormalAt(*e) != smoothNormal(whole, e->cellX, e->cellY, e->u, e->v);
+            }
+            const auto m = intersect(level3, r, {12100.0, 23900.0}, CellMethod::Bilinear);
+            if (m) {
+                ++mid;
+                const auto got = lod.intersect(r, {12100.0, 23900.0});
+                midDiffer += !got || std::bit_cast<uint64_t>(got->t) != std::bit_cast<uint64_t>(m->t);
+                // Shaded with level 3's smooth normal there, not read from the grid's tiles.
+                if (got) {
+                    const double x = got->pointM.x * level3.cellsPerMetreX(), y = got->pointM.y * level3.cellsPerMetreY();
+                    const int64_t i = std::min<int64_t>(int64_t(x), level3.cellsX() - 1),
+                                  j = std::min<int64_t>(int64_t(y), level3.cellsY() - 1);
+                    midDiffer += lod.smoothNormalAt(*got) != smoothNormal(level3, i, j, x - double(i), y - double(j));
+                }
+            }
+        }
+        INFO(near << " near hits, " << mid << " hits between 12 and 24 km");
+        CHECK(near > 50);
+        CHECK(mid > 200);
+        CHECK(nearDiffer == 0);
+        CHECK(midDiffer == 0);
+    }
 }
