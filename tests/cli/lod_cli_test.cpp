@@ -9,6 +9,9 @@
 #include <gdal_priv.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <cstdlib>
 #include <sstream>
 #include <string>
@@ -126,4 +129,37 @@ TEST_CASE("Level of detail: compare --lod reports the coarse surface beside the 
     CHECK(agreement > 0.9);
     CHECK(agreement < 1.0);
     CHECK_THAT(r.out, Catch::Contains("\nbilinear "));
+}
+
+TEST_CASE("Level of detail: compare over a DEM held as tiles tells the tiles each entry read", "[cli][lod][tiles]") {
+    TempDir dir("lod-compare-tiles");
+    const std::string helens = dir.file("helens.tif");
+    {
+        std::ifstream in(kHelens, std::ios::binary);
+        std::ofstream out(helens, std::ios::binary);
+        out << in.rdbuf();
+    }
+    const std::string command = "compare '" + helens + "' --size 160x120 --methods bilinear --lod 0.5 --threads 2 "
+                                "--tile-cache 150K --json '" + dir.file("r.json") + "'";
+    // The first run makes the coarser grid (level 2 fits in 150 KiB, level 1 does not) and keeps it beside the
+    // DEM; the second takes it, leaving the file as it was.
+    const std::string kept = helens + ".terracast-lod2";
+    std::filesystem::file_time_type made;
+    for (const int run : {1, 2}) {
+        const CommandResult r = runTerracast(command);
+        INFO(r.err);
+        REQUIRE(r.exitCode == 0);
+        const size_t line = r.out.find("tiles read from the DEM: ");
+        REQUIRE(line != std::string::npos);
+        const std::string text = r.out.substr(line, r.out.find('\n', line) - line);
+        INFO(text);
+        CHECK_THAT(text, Catch::Contains("(of 4 tiles, a cache of 150.0 KiB)"));
+        for (const char* entry : {"bilinear-double ", "bilinear ", "bilinear+lod0.5 "}) CHECK_THAT(text, Catch::Contains(entry));
+        std::ifstream json(dir.file("r.json"));
+        const std::string report((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
+        CHECK_THAT(report, Catch::Contains("\"tile_loads\": "));
+        REQUIRE(std::filesystem::exists(kept));
+        if (run == 1) made = std::filesystem::last_write_time(kept);
+        else CHECK(std::filesystem::last_write_time(kept) == made);
+    }
 }
