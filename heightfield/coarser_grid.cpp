@@ -89,7 +89,7 @@ HeightGrid coarserGrid(const HeightGrid& grid, int levels, int threads) {
     };
     // A tiled grid's source may have kept this level from an earlier run.
     if (grid.tiled())
-        if (auto kept = grid.tileSource()->keptCoarseHeights(levels);
+        if (auto kept = grid.tileSource()->keptCoarseHeights(levels, w, h);
             kept && kept->width == w && kept->height == h && kept->heightsM.size() == size_t(w * h) &&
             kept->valid.size() == size_t(w * h))
             return make(std::move(kept->heightsM), std::move(kept->valid));
@@ -131,9 +131,11 @@ HeightGrid coarserGrid(const HeightGrid& grid, int levels, int threads) {
                     const int64_t i0 = spanX[size_t(ti)], i1 = spanX[size_t(ti + 1)];
                     const int64_t j0 = spanY[size_t(tj)], j1 = spanY[size_t(tj + 1)];
                     if (i0 >= i1 || j0 >= j1) continue;  // a tile none of whose vertices is kept
-                    const HeightTile& tile = grid.tileOfCell(ti * kTileCells, tj * kTileCells);
-                    fill(i0, i1, j0, j1, [&](int64_t a, int64_t b) { return tile.at(a, b); },
-                         [&](int64_t a, int64_t b) { return tile.vertexValid(a, b); });
+                    // Straight from the source: each tile is used once, so a thread's memo of recent tiles
+                    // (HeightGrid::tileOfCell) would only hold tiles beyond the cache's budget.
+                    const std::shared_ptr<const HeightTile> tile = grid.tileSource()->tile(ti, tj);
+                    fill(i0, i1, j0, j1, [&](int64_t a, int64_t b) { return tile->at(a, b); },
+                         [&](int64_t a, int64_t b) { return tile->vertexValid(a, b); });
                 }
             } catch (...) {
                 std::lock_guard lock(failureMutex);
@@ -144,7 +146,11 @@ HeightGrid coarserGrid(const HeightGrid& grid, int levels, int threads) {
         const int64_t count = std::clamp<int64_t>(
             threads > 0 ? threads : int64_t(std::max(1u, std::thread::hardware_concurrency())), 1, tiles);
         std::vector<std::thread> pool;
-        for (int64_t k = 1; k < count; ++k) pool.emplace_back(work);
+        try {
+            for (int64_t k = 1; k < count; ++k) pool.emplace_back(work);
+        } catch (...) {
+            // No more threads to be had: those started and this one do the work.
+        }
         work();
         for (auto& thread : pool) thread.join();
         if (failure) std::rethrow_exception(failure);

@@ -121,10 +121,12 @@ public:
     virtual std::shared_ptr<const TileSource> transformed(const HeightTransform&, GridSummary&) const {
         return nullptr;
     }
-    // The grid `levels` steps coarser as kept from an earlier run (a sidecar beside the DEM), when this source
-    // keeps one that describes its heights as they are now; and the offer of one just made, to keep. A source
-    // that keeps nothing answers nothing and ignores the offer.
-    virtual std::optional<CoarseHeights> keptCoarseHeights(int /*levels*/) const { return std::nullopt; }
+    // The grid `levels` steps coarser (`width` x `height` vertices) as kept from an earlier run (a sidecar beside
+    // the DEM), when this source keeps one that describes its heights as they are now; and the offer of one just
+    // made, to keep. A source that keeps nothing answers nothing and ignores the offer.
+    virtual std::optional<CoarseHeights> keptCoarseHeights(int /*levels*/, int64_t /*width*/, int64_t /*height*/) const {
+        return std::nullopt;
+    }
     virtual void keepCoarseHeights(int /*levels*/, const CoarseHeights& /*heights*/) const {}
 
 private:

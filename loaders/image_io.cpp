@@ -122,10 +122,19 @@ void checkCanWrite(const std::string& path) {
 }
 
 void writeFileAtomically(const std::string& path, std::string_view bytes) {
+    writeFileAtomically(path, std::initializer_list<std::string_view>{bytes});
+}
+
+void writeFileAtomically(const std::string& path, std::initializer_list<std::string_view> pieces) {
+    const auto writePieces = [&pieces](int fd) {
+        for (const std::string_view piece : pieces)
+            if (const int error = writeAll(fd, piece)) return error;
+        return 0;
+    };
     if (isDeviceOrPipe(path)) {
         // A device or a pipe is written in place: renaming over it would replace it, and it keeps no partial file.
         const int fd = openInPlace(path);
-        const int error = writeAll(fd, bytes);
+        const int error = writePieces(fd);
         const bool closed = ::close(fd) == 0;
         if (error != 0 || !closed)
             throw std::runtime_error(fmt::format("{}: cannot write ({})", path, std::strerror(error ? error : errno)));
@@ -135,7 +144,7 @@ void writeFileAtomically(const std::string& path, std::string_view bytes) {
     auto [fd, temporaryPath] = createTemporary(path, folder);
     TemporaryFile temporary(temporaryPath);
     // Failures from here on (a full disk, an I/O error) are runtime failures: exit 1.
-    const int error = writeAll(fd, bytes);
+    const int error = writePieces(fd);
     const bool closed = ::close(fd) == 0;
     if (error != 0 || !closed)
         throw std::runtime_error(fmt::format("{}: cannot write in '{}' ({})", path, folder.string(),

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <initializer_list>
 #include <string_view>
 #include <vector>
 
@@ -48,6 +49,8 @@ void prepareImageWriter(const std::string& path);
 // as /dev/null) is written in place. Throws InputError for a missing or unwritable folder, std::runtime_error
 // when writing fails (a full disk), and never leaves a partial file.
 void writeFileAtomically(const std::string& path, std::string_view bytes);
+// The same for bytes in pieces, written one after the other (no copy of them joined).
+void writeFileAtomically(const std::string& path, std::initializer_list<std::string_view> pieces);
 
 // The sRGB encoding (IEC 61966-2-1) of a linear value, in [0, 1]; inputs outside [0, 1] and NaN are clamped.
 float srgbFromLinear(float linear);

@@ -164,24 +164,31 @@ std::string coarseSidecarPath(const std::string& demPath, double exaggeration, i
     return fmt::format("{}.x{}.terracast-lod{}", demPath, exaggeration, levels);
 }
 
-std::optional<CoarseHeights> readCoarseSidecar(const std::string& sidecarPath, const std::string& key) {
-    if (key.empty()) return std::nullopt;
+std::optional<CoarseHeights> readCoarseSidecar(const std::string& sidecarPath, const std::string& key, int64_t width,
+                                               int64_t height) {
+    if (key.empty() || width < 2 || height < 2) return std::nullopt;
     std::ifstream file(sidecarPath, std::ios::binary);
     if (!file) return std::nullopt;
-    const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-    std::string_view in(text);
+    // The header and the size first: nothing is allocated for a file that is not the one expected.
     const std::string head = std::string(kCoarseFormatLine) + key + "\n";
-    if (in.substr(0, head.size()) != head) return std::nullopt;
-    in.remove_prefix(head.size());
-    CoarseHeights c;
-    if (!take(in, c.width) || !take(in, c.height) || c.width < 2 || c.height < 2 || c.width > (int64_t(1) << 31) ||
-        c.height > (int64_t(1) << 31))
+    const size_t n = size_t(width) * size_t(height);
+    std::error_code ec;
+    const auto size = fs::file_size(sidecarPath, ec);
+    if (ec || size != head.size() + 2 * sizeof(int64_t) + n * (sizeof(float) + 1)) return std::nullopt;
+    std::string got(head.size(), '\0');
+    int64_t w = 0, h = 0;
+    if (!file.read(got.data(), std::streamsize(got.size())) || got != head ||
+        !file.read(reinterpret_cast<char*>(&w), sizeof w) || !file.read(reinterpret_cast<char*>(&h), sizeof h) ||
+        w != width || h != height)
         return std::nullopt;
-    const size_t n = size_t(c.width) * size_t(c.height);
-    if (in.size() != n * (sizeof(float) + 1)) return std::nullopt;
+    CoarseHeights c;
+    c.width = w;
+    c.height = h;
     c.heightsM.resize(n);
-    std::memcpy(c.heightsM.data(), in.data(), n * sizeof(float));
-    c.valid.assign(in.begin() + std::ptrdiff_t(n * sizeof(float)), in.end());
+    c.valid.resize(n);
+    if (!file.read(reinterpret_cast<char*>(c.heightsM.data()), std::streamsize(n * sizeof(float))) ||
+        !file.read(reinterpret_cast<char*>(c.valid.data()), std::streamsize(n)))
+        return std::nullopt;
     // What a grid would refuse (a valid height that is not finite, a flag other than 0 or 1) is a damaged file.
     for (size_t k = 0; k < n; ++k)
         if (c.valid[k] > 1 || (c.valid[k] && !std::isfinite(c.heightsM[k]))) return std::nullopt;
@@ -190,13 +197,14 @@ std::optional<CoarseHeights> readCoarseSidecar(const std::string& sidecarPath, c
 
 std::string writeCoarseSidecar(const std::string& sidecarPath, const std::string& key, const CoarseHeights& c) {
     if (key.empty()) return "its files cannot all be checked for changes";
-    std::string out = std::string(kCoarseFormatLine) + key + "\n";
-    append(out, c.width);
-    append(out, c.height);
-    out.append(reinterpret_cast<const char*>(c.heightsM.data()), c.heightsM.size() * sizeof(float));
-    out.append(reinterpret_cast<const char*>(c.valid.data()), c.valid.size());
     try {
-        writeFileAtomically(sidecarPath, out);
+        const std::string head = std::string(kCoarseFormatLine) + key + "\n";
+        const int64_t size[2] = {c.width, c.height};
+        writeFileAtomically(sidecarPath,
+                            {head, std::string_view(reinterpret_cast<const char*>(size), sizeof size),
+                             std::string_view(reinterpret_cast<const char*>(c.heightsM.data()),
+                                              c.heightsM.size() * sizeof(float)),
+                             std::string_view(reinterpret_cast<const char*>(c.valid.data()), c.valid.size())});
     } catch (const std::exception& e) {
         return e.what();
     }

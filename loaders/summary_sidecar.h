@@ -34,7 +34,10 @@ std::string writeSummarySidecar(const std::string& sidecarPath, const std::strin
 // it the same way: ".terracast-lodLEVELS" appended to the DEM's path (after ".xFACTOR" under an exaggeration),
 // keyed as the summary is.
 std::string coarseSidecarPath(const std::string& demPath, double exaggeration, int levels);
-std::optional<CoarseHeights> readCoarseSidecar(const std::string& sidecarPath, const std::string& key);
+// The coarse grid kept at `sidecarPath` under `key`, when it is `width` x `height` vertices and sound; nothing
+// otherwise.
+std::optional<CoarseHeights> readCoarseSidecar(const std::string& sidecarPath, const std::string& key, int64_t width,
+                                               int64_t height);
 // Returns "" or why it could not write.
 std::string writeCoarseSidecar(const std::string& sidecarPath, const std::string& key, const CoarseHeights& heights);
 

@@ -114,6 +114,7 @@ TiledDem::TiledDem(std::shared_ptr<const DemWindowReader> reader, size_t cacheBy
     // saved for the next open (under mpirun by the leader). Transformed heights belong to one job: no sidecar.
     const std::string sidecar = summarySidecarPath(path, exaggeration);
     const std::string key = keyFor(*reader_);
+    openKey_ = key;
     if (!transform_.identity()) {
         summary_ = streamSummary(*reader_, path, exaggeration, transform_);
         summaryOrigin_ = "one pass over the raster, its heights transformed for this job (not saved)";
@@ -142,16 +143,17 @@ TiledDem::TiledDem(std::shared_ptr<const DemWindowReader> reader, size_t cacheBy
         cacheBytes, [this](int64_t key) { return readTile(key); }, [](const HeightTile& t) { return t.bytes(); });
 }
 
-std::optional<CoarseHeights> TiledDem::keptCoarseHeights(int levels) const {
-    if (!transform_.identity()) return std::nullopt;
-    return readCoarseSidecar(coarseSidecarPath(reader_->path(), exaggeration_, levels), keyFor(*reader_));
+std::optional<CoarseHeights> TiledDem::keptCoarseHeights(int levels, int64_t width, int64_t height) const {
+    if (!transform_.identity() || openKey_.empty() || keyFor(*reader_) != openKey_) return std::nullopt;
+    return readCoarseSidecar(coarseSidecarPath(reader_->path(), exaggeration_, levels), openKey_, width, height);
 }
 
 void TiledDem::keepCoarseHeights(int levels, const CoarseHeights& heights) const {
-    if (!transform_.identity() || !ranks::leader()) return;
+    // Heights read from a DEM that changed since it was opened may be of neither version: not kept.
+    if (!transform_.identity() || !ranks::leader() || openKey_.empty() || keyFor(*reader_) != openKey_) return;
     const DeferExitOnCancel finishWriting;
     // A cache: a folder that cannot be written to costs the next run one more read of every tile.
-    (void)writeCoarseSidecar(coarseSidecarPath(reader_->path(), exaggeration_, levels), keyFor(*reader_), heights);
+    (void)writeCoarseSidecar(coarseSidecarPath(reader_->path(), exaggeration_, levels), openKey_, heights);
 }
 
 std::string TiledDem::keyFor(const DemWindowReader& reader) const {

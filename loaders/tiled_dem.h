@@ -66,8 +66,9 @@ public:
     // A TiledDem over the same raster under `t` (nullptr for one already transformed).
     std::shared_ptr<const TileSource> transformed(const HeightTransform& t, GridSummary& summary) const override;
     // A level of detail's coarser grids, kept in a sidecar beside the DEM (summary_sidecar.h) under the summary's
-    // key; none for transformed heights. Only the leader of an MPI launch writes one.
-    std::optional<CoarseHeights> keptCoarseHeights(int levels) const override;
+    // key as it was when the DEM was opened (one made from a DEM that changed since is not kept); none for
+    // transformed heights. Only the leader of an MPI launch writes one.
+    std::optional<CoarseHeights> keptCoarseHeights(int levels, int64_t width, int64_t height) const override;
     void keepCoarseHeights(int levels, const CoarseHeights& heights) const override;
 
 private:
@@ -91,6 +92,7 @@ private:
     std::shared_ptr<Copies> copies_ = std::make_shared<Copies>();  // shared by a DEM and its copies
     GridSummary summary_;
     std::string summaryOrigin_;
+    std::string openKey_;  // the sidecars' key when the DEM was opened (keyFor)
     TileLayout layout_;
     std::unique_ptr<TileCache<HeightTile>> cache_;
     std::shared_ptr<const TileStore> store_;  // shared with the transformed copies

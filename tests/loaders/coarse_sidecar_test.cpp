@@ -80,11 +80,20 @@ TEST_CASE("Coarse sidecar: a level of detail's coarser grid is kept beside the D
         CHECK(differences(level1, coarserGrid(whole.grid)) == 0);
         CHECK(fs::exists(coarseSidecarPath(helens, 1.0, 1)));
     }
-    SECTION("a file cut short or with a damaged height is made again") {
+    SECTION("a file cut short, with a damaged height or another shape is made again") {
         const auto size = fs::file_size(sidecar);
-        for (const bool cut : {true, false}) {
+        for (const int damage : {0, 1, 2}) {
+            const bool cut = damage == 0;
             if (cut) {
                 fs::resize_file(sidecar, size - 1);
+            } else if (damage == 2) {
+                // Width and height swapped: the same size of file, for a grid of another shape.
+                std::fstream f(sidecar, std::ios::in | std::ios::out | std::ios::binary);
+                const auto n = uintmax_t(want.width() * want.height());
+                const int64_t swapped[2] = {want.height(), want.width()};
+                REQUIRE(swapped[0] != swapped[1]);
+                f.seekp(std::streamoff(size - n - 4 * n - 16));
+                f.write(reinterpret_cast<const char*>(swapped), sizeof swapped);
             } else {
                 // A valid vertex's height made infinite: the last vertex's height (a valid one in this DEM).
                 std::fstream f(sidecar, std::ios::in | std::ios::out | std::ios::binary);
@@ -95,7 +104,7 @@ TEST_CASE("Coarse sidecar: a level of detail's coarser grid is kept beside the D
                 f.seekp(std::streamoff(size - n - 4 * n + 4 * k));
                 f.write(reinterpret_cast<const char*>(&inf), 4);
             }
-            INFO((cut ? "cut short" : "an infinite height"));
+            INFO((damage == 0 ? "cut short" : damage == 1 ? "an infinite height" : "width and height swapped"));
             const Opened again = open(helens);
             CHECK(differences(coarserGrid(again.grid, 2, 2), want) == 0);
             CHECK(again.tiles->cacheStats().loads == again.tiles->layout().tileCount());

@@ -388,10 +388,11 @@ std::string levelOfDetailLine(const TerrainSurface& surface) {
                        surface.detailLevels(), humanBytes(double(surface.detailBytes())),
                        first == 1 ? std::string("other") : fmt::format("{}th", int64_t(1) << first),
                        surface.detailDistancesM().front(),
-                       first > 1 ? fmt::format("; the DEM's tiles nearer (coarser grids 1 to {} would not fit in the "
-                                               "tile cache)",
-                                               first - 1)
-                                 : std::string());
+                       first == 2   ? std::string("; the DEM's tiles nearer (coarser grid 1 would not fit in the tile cache)")
+                       : first > 2 ? fmt::format("; the DEM's tiles nearer (coarser grids 1 to {} would not fit in the "
+                                                 "tile cache)",
+                                                 first - 1)
+                                   : std::string());
 }
 
 // `render` without --view map.
@@ -401,9 +402,10 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     checkOutputPath(o.output, o.dem.path);
     checkPerspectiveOptions(o);
     if (!o.drape.empty()) checkNotInput(o.output, o.drape, "-o", "the drape");
-    // Embree's meshes read every vertex; the direct methods read only the tiles the render sees (and a level of
-    // detail's coarser grids each tile once).
-    LoadedDem dem = loadDemSource(o.dem, listener, directCellMethod(o.method).has_value(), o.exaggeration);
+    // Embree's meshes read every vertex, and so does a level of detail's pass making its coarser grids: ranks hold a
+    // DEM that fits whole for them, as one process does; the direct methods read only the tiles the render sees.
+    LoadedDem dem =
+        loadDemSource(o.dem, listener, directCellMethod(o.method).has_value() && o.lodPixels == 0.0, o.exaggeration);
     HeightGrid& grid = dem.grid;
     TerrainRenderSettings s = perspectiveSettings(o, dem, listener);
 

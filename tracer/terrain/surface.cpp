@@ -2,6 +2,7 @@
 
 #include "heightfield/coarser_grid.h"
 #include "heightfield/shading_normals.h"
+#include "tracer/core/ranks.h"
 
 #include <algorithm>
 #include <array>
@@ -30,36 +31,40 @@ void TerrainSurface::setLevelOfDetail(const LevelOfDetail& lod) {
     if (!(lod.radiansPerPixel > 0.0) || !(lod.pixels > 0.0) || !std::isfinite(lod.radiansPerPixel * lod.pixels) ||
         !std::isfinite(lod.eyeM.x + lod.eyeM.y + lod.eyeM.z))
         throw std::invalid_argument("a level of detail needs a positive, finite pixel angle and pixel count");
-    coarse_.clear();
-    fromM_.clear();
-    eye_ = lod.eyeM;
-    float low = grid_.minHeightM(), high = grid_.maxHeightM();
     // A cell of size c at distance d spans about c / (d * radiansPerPixel) pixels: level k + 1 takes over where
     // level k's cells span fewer than `pixels`. Levels stop at a grid of 2 x 2 cells.
-    // A grid held as tiles keeps in memory only the levels from firstDetailLevel_ on, the first whose grids
-    // (together about 4/3 of its own bytes) fit in the tile cache's budget; it is made by reading every tile once.
-    // The fine grid's tiles serve the levels before it, which therefore begins where level firstDetailLevel_ - 1
-    // would have ended.
-    firstDetailLevel_ = 1;
+    // A grid held as tiles keeps in memory only the levels from `first` on, the first whose grids (together about
+    // 4/3 of its own bytes) fit in the tile cache's budget; it is made by reading every tile once (or taken from
+    // where the tile source kept it). The fine grid's tiles serve the levels before it, which therefore begins
+    // where level first - 1 would have ended. The ranks of a launch take the leader's choice, so that their parts
+    // of a picture are traced on the same levels.
+    int first = 1;
     if (grid_.tiled()) {
         const double budget = double(grid_.tileSource()->cacheBudgetBytes());
-        while (true) {
-            const int64_t w = int64_t(coarseVertexIndices(grid_.width(), firstDetailLevel_).size()),
-                          h = int64_t(coarseVertexIndices(grid_.height(), firstDetailLevel_).size());
-            if (4.0 / 3.0 * coarseGridBytes(w, h) <= budget || w < 3 || h < 3 ||
-                firstDetailLevel_ >= int(kMaxDetailLevels))
-                break;
-            ++firstDetailLevel_;
+        const auto coarser = [](int64_t n) { return (n - 1) / 2 + (n - 1) % 2 + 1; };
+        int64_t w = grid_.width(), h = grid_.height();
+        if (w >= 3 && h >= 3) {
+            w = coarser(w);
+            h = coarser(h);
+            while (4.0 / 3.0 * coarseGridBytes(w, h) > budget && w >= 3 && h >= 3 && first < int(kMaxDetailLevels)) {
+                w = coarser(w);
+                h = coarser(h);
+                ++first;
+            }
         }
     }
+    ranks::broadcast(&first, sizeof first);
+    // Built aside, so that a failure (a tile that cannot be read) leaves the surface as it was.
+    std::vector<std::unique_ptr<HeightGrid>> coarse;
+    std::vector<double> fromM;
+    float low = grid_.minHeightM(), high = grid_.maxHeightM();
     const HeightGrid* finer = &grid_;
-    double finerCellM = std::min(grid_.cellSizeXM(), grid_.cellSizeYM()) * double(int64_t(1) << (firstDetailLevel_ - 1));
-    while (finer->width() >= 3 && finer->height() >= 3 && coarse_.size() < kMaxDetailLevels) {
-        fromM_.push_back(finerCellM / (lod.radiansPerPixel * lod.pixels));
-        coarse_.push_back(std::make_unique<HeightGrid>(finer == &grid_ && grid_.tiled()
-                                                           ? coarserGrid(grid_, firstDetailLevel_, threads_)
-                                                           : coarserGrid(*finer)));
-        finer = coarse_.back().get();
+    double finerCellM = std::min(grid_.cellSizeXM(), grid_.cellSizeYM()) * double(int64_t(1) << (first - 1));
+    while (finer->width() >= 3 && finer->height() >= 3 && coarse.size() < kMaxDetailLevels) {
+        fromM.push_back(finerCellM / (lod.radiansPerPixel * lod.pixels));
+        coarse.push_back(std::make_unique<HeightGrid>(finer == &grid_ && grid_.tiled() ? coarserGrid(grid_, first, threads_)
+                                                                                       : coarserGrid(*finer)));
+        finer = coarse.back().get();
         finerCellM = std::min(finer->cellSizeXM(), finer->cellSizeYM());
         low = std::min(low, finer->minHeightM());
         high = std::max(high, finer->maxHeightM());
@@ -70,6 +75,10 @@ void TerrainSurface::setLevelOfDetail(const LevelOfDetail& lod) {
     boxLo_ = {-pad, -pad, double(low) - zPad};
     boxHi_ = {std::max(grid_.extentXM(), finer->extentXM()) + pad, std::max(grid_.extentYM(), finer->extentYM()) + pad,
               double(high) + zPad};
+    coarse_ = std::move(coarse);
+    fromM_ = std::move(fromM);
+    eye_ = lod.eyeM;
+    firstDetailLevel_ = first;
 }
 
 glm::dvec3 TerrainSurface::smoothNormalAt(const HeightFieldHit& hit) const {

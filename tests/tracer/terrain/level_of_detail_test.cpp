@@ -227,3 +227,17 @@ TEST_CASE("Level of detail over a grid held as tiles: the levels that fit its ca
         CHECK(midDiffer == 0);
     }
 }
+
+TEST_CASE("Level of detail: a grid too thin for a coarser level gets none, held whole or as tiles",
+          "[terrain][lod][tiles]") {
+    const HeightGrid thin(2, 300, 10.0, 10.0, std::vector<float>(600, 5.0f));
+    auto tiles = std::make_shared<CutTiles>(thin, size_t(1) << 20);
+    const HeightGrid thinTiled(tiles->summary(), 10.0, 10.0, tiles);
+    for (const HeightGrid* g : {&thin, &thinTiled}) {
+        TerrainSurface lod(*g, SurfaceMethod::Bilinear);
+        lod.setLevelOfDetail({{5.0, -100.0, 50.0}, 1e-3, 1.0});
+        CHECK(lod.detailLevels() == 0);
+        const Ray r{{5.0, -100.0, 50.0}, glm::normalize(glm::dvec3(0.0, 1.0, -0.2))};
+        CHECK(sameHit(lod.intersect(r, {0.0, kInfinity}), intersect(*g, r, {0.0, kInfinity}, CellMethod::Bilinear)));
+    }
+}
