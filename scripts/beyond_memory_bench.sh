@@ -1,7 +1,7 @@
 #!/bin/sh
 # The "beyond memory" measurement of docs/scale.md: a 65537 x 65537 grid (4.3 billion vertices, 8.6 GB of
 # int16 samples) as a tiled DEFLATE GeoTIFF, then a shadow map and a 3840x2160 render with --max-memory 2G,
-# each reporting its time and peak resident memory. Not part of CI (about 20 minutes on 2 cores, 1.5 GB of disk).
+# each reporting its time and peak resident memory, and the render again with --lod 1. Not part of CI (about 20 minutes on 2 cores, 1.5 GB of disk).
 #   scripts/beyond_memory_bench.sh [TERRACAST] [FOLDER]
 # The grid is the 8193^2 Puget Sound grid of scripts/scale_bench.sh repeated 8 x 8 times (each copy overlaps its
 # neighbour by one vertex, so the copies meet in cliffs): a VRT of 64 sources, written out by gdal_translate.
@@ -46,4 +46,9 @@ measure() { # runs a command under /usr/bin/time; prints its summary line, wall 
 }
 measure "$terracast" info "$dem" --max-memory 2G
 measure "$terracast" render "$dem" -o "$work/render.png" --size 3840x2160 --max-memory 2G
+# The level of detail: the first run makes the coarser grid that fits in the tile cache from every tile and keeps it
+# beside the DEM (DEM.terracast-lodL); the second takes it from there.
+rm -f "$dem".terracast-lod*
+measure "$terracast" render "$dem" -o "$work/render-lod.png" --size 3840x2160 --max-memory 2G --lod 1
+measure "$terracast" render "$dem" -o "$work/render-lod.png" --size 3840x2160 --max-memory 2G --lod 1
 measure "$terracast" shadow "$dem" --sun 135,20 -o "$work/shadow.tif" --max-memory 2G
