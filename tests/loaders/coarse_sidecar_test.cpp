@@ -4,6 +4,7 @@
 #include "heightfield/coarser_grid.h"
 #include "loaders/summary_sidecar.h"
 #include "loaders/tiled_dem.h"
+#include "support/rewrite_dem.h"
 #include "support/temp_dir.h"
 
 #include <catch2/catch.hpp>
@@ -18,6 +19,7 @@
 #include <vector>
 
 using namespace terracast;
+using terracast::testing::raiseValidHeights;
 using terracast::testing::TempDir;
 namespace fs = std::filesystem;
 
@@ -112,20 +114,7 @@ TEST_CASE("Coarse sidecar: a level of detail's coarser grid is kept beside the D
         }
     }
     SECTION("a DEM rewritten since gets its new heights, and a new file") {
-        {
-            GDALAllRegister();
-            GDALDatasetH ds = GDALOpen(helens.c_str(), GA_Update);
-            REQUIRE(ds != nullptr);
-            GDALRasterBandH band = GDALGetRasterBand(ds, 1);
-            const int w = GDALGetRasterXSize(ds), h = GDALGetRasterYSize(ds);
-            std::vector<int16_t> z(size_t(w) * size_t(h));
-            REQUIRE(GDALRasterIO(band, GF_Read, 0, 0, w, h, z.data(), w, h, GDT_Int16, 0, 0) == CE_None);
-            const double nodata = GDALGetRasterNoDataValue(band, nullptr);
-            for (int16_t& v : z)
-                if (double(v) != nodata) v = int16_t(v + 7);
-            REQUIRE(GDALRasterIO(band, GF_Write, 0, 0, w, h, z.data(), w, h, GDT_Int16, 0, 0) == CE_None);
-            GDALClose(ds);
-        }
+        raiseValidHeights(helens, 7);
         const Opened again = open(helens);
         const HeightGrid coarse = coarserGrid(again.grid, 2, 2);
         CHECK(again.tiles->cacheStats().loads == again.tiles->layout().tileCount());

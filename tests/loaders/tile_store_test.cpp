@@ -3,6 +3,7 @@
 // record, a store cut short or made for an earlier version of the DEM is never read.
 #include "loaders/tile_store.h"
 #include "loaders/tiled_dem.h"
+#include "support/rewrite_dem.h"
 #include "support/temp_dir.h"
 
 #include <catch2/catch.hpp>
@@ -17,6 +18,7 @@
 #include <vector>
 
 using namespace terracast;
+using terracast::testing::raiseValidHeights;
 using terracast::testing::TempDir;
 namespace fs = std::filesystem;
 
@@ -197,20 +199,7 @@ TEST_CASE("Tile store: a torn record, a store cut short or one made for an earli
     }
     SECTION("a DEM rewritten since gets a new store, holding its new heights") {
         // The same raster with every height 7 m higher, in a file of the same size: only the file's times tell.
-        {
-            GDALAllRegister();
-            GDALDatasetH ds = GDALOpen(helens.c_str(), GA_Update);
-            REQUIRE(ds != nullptr);
-            GDALRasterBandH band = GDALGetRasterBand(ds, 1);
-            const int w = GDALGetRasterXSize(ds), h = GDALGetRasterYSize(ds);
-            std::vector<int16_t> z(size_t(w) * size_t(h));
-            REQUIRE(GDALRasterIO(band, GF_Read, 0, 0, w, h, z.data(), w, h, GDT_Int16, 0, 0) == CE_None);
-            const double nodata = GDALGetRasterNoDataValue(band, nullptr);
-            for (int16_t& v : z)
-                if (double(v) != nodata) v = int16_t(v + 7);
-            REQUIRE(GDALRasterIO(band, GF_Write, 0, 0, w, h, z.data(), w, h, GDT_Int16, 0, 0) == CE_None);
-            GDALClose(ds);
-        }
+        raiseValidHeights(helens, 7);
         const TiledDem rewritten(helens, kWholeCache);
         const TiledDem again(helens, kWholeCache, withStore());
         CHECK(again.store()->fresh());

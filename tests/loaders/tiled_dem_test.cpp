@@ -126,6 +126,55 @@ TEST_CASE("Tiled DEM: under a vertical exaggeration every tile holds the whole e
                       Catch::StartsWith(helens + ": a vertical exaggeration of 1e+36 makes heights of up to 2543 m"));
 }
 
+TEST_CASE("Tiled DEM: tiles read from a GeoTIFF in 256 x 256 blocks, whose last row and column lie in the blocks "
+          "beyond, are the whole load's",
+          "[loaders][tiles]") {
+    // A tile's window is a block and one more row and column, which the reader takes from the first row and column
+    // of the blocks beyond, kept from when those were read. Sizes of 256 k + 1 vertices put the windows on block
+    // corners in both directions (rows are mirrored: the raster runs north to south); 16-bit metres with nodata
+    // holes straddling block edges (read as integers), and the same as float32 (read as float64), DEFLATE in
+    // 256 x 256 blocks; the St Helens heights repeated to 769 x 513.
+    const std::string helens = sample("usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif");
+    TempDir dir("tiled-blocks");
+    GDALAllRegister();
+    GDALDatasetH source = GDALOpen(helens.c_str(), GA_ReadOnly);
+    REQUIRE(source != nullptr);
+    const int sw = GDALGetRasterXSize(source), sh = GDALGetRasterYSize(source);
+    std::vector<double> z(size_t(sw) * size_t(sh));
+    REQUIRE(GDALRasterIO(GDALGetRasterBand(source, 1), GF_Read, 0, 0, sw, sh, z.data(), sw, sh, GDT_Float64, 0, 0) ==
+            CE_None);
+    double geo[6];
+    GDALGetGeoTransform(source, geo);
+    const int w = 769, h = 513;
+    for (const GDALDataType type : {GDT_Int16, GDT_Float32}) {
+        const std::string path = dir.file(type == GDT_Int16 ? "blocks16.tif" : "blocks32.tif");
+        const char* options[] = {"TILED=YES", "BLOCKXSIZE=256", "BLOCKYSIZE=256", "COMPRESS=DEFLATE", nullptr};
+        GDALDatasetH out = GDALCreate(GDALGetDriverByName("GTiff"), path.c_str(), w, h, 1, type, const_cast<char**>(options));
+        REQUIRE(out != nullptr);
+        GDALSetGeoTransform(out, geo);
+        GDALSetProjection(out, GDALGetProjectionRef(source));
+        GDALRasterBandH band = GDALGetRasterBand(out, 1);
+        GDALSetRasterNoDataValue(band, -32768);
+        std::vector<double> big(size_t(w) * size_t(h));
+        for (int r = 0; r < h; ++r)
+            for (int c = 0; c < w; ++c) {
+                const double v = z[size_t((r % sh) * sw + c % sw)];
+                // Holes across the block edges at row 256 and column 512 (and their corner).
+                const bool hole = (std::abs(r - 256) < 3 && c > 200 && c < 300) || (std::abs(c - 512) < 2 && r > 100);
+                big[size_t(r) * size_t(w) + size_t(c)] =
+                    hole || v < -1000.0 ? -32768.0 : (type == GDT_Int16 ? v : v + 0.25 * double((r + c) % 4));
+            }
+        REQUIRE(GDALRasterIO(band, GF_Write, 0, 0, w, h, big.data(), w, h, GDT_Float64, 0, 0) == CE_None);
+        int bx = 0, by = 0;
+        GDALGetBlockSize(band, &bx, &by);
+        REQUIRE(bx == 256);
+        REQUIRE(by == 256);
+        GDALClose(out);
+        checkAgainstLoad(path, 1);
+    }
+    GDALClose(source);
+}
+
 TEST_CASE("Tiled DEM: opening refuses what loading refuses, without reading it whole", "[loaders][tiles]") {
     CHECK_THROWS_AS(TiledDem(sample("no-such.tif"), 1 << 20), InputError);
     CHECK_THROWS_WITH(TiledDem(sample("README.md"), 1 << 20), Catch::Contains("README.md"));
