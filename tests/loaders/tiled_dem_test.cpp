@@ -23,6 +23,28 @@ namespace {
 
 std::string sample(const std::string& name) { return std::string(TERRACAST_SOURCE_DIR "/data-samples/") + name; }
 
+// A raster's band 1 as float64, with its size and geotransform; the dataset stays open (the caller closes it) for
+// its projection.
+struct RasterValues {
+    GDALDatasetH dataset = nullptr;
+    int width = 0, height = 0;
+    std::vector<double> values;
+    double geo[6] = {};
+};
+RasterValues readRaster(const std::string& path) {
+    GDALAllRegister();
+    RasterValues r;
+    r.dataset = GDALOpen(path.c_str(), GA_ReadOnly);
+    REQUIRE(r.dataset != nullptr);
+    r.width = GDALGetRasterXSize(r.dataset);
+    r.height = GDALGetRasterYSize(r.dataset);
+    r.values.resize(size_t(r.width) * size_t(r.height));
+    REQUIRE(GDALRasterIO(GDALGetRasterBand(r.dataset, 1), GF_Read, 0, 0, r.width, r.height, r.values.data(), r.width,
+                         r.height, GDT_Float64, 0, 0) == CE_None);
+    GDALGetGeoTransform(r.dataset, r.geo);
+    return r;
+}
+
 // Every vertex and cell of the tiled DEM against the loaded grid, in an order that revisits evicted tiles; both
 // under a vertical exaggeration `k`.
 void checkAgainstLoad(const std::string& path, int cacheTiles, double k = 1.0) {
@@ -82,14 +104,11 @@ TEST_CASE("Tiled DEM: under a vertical exaggeration every tile holds the whole e
     checkAgainstLoad(helens, 1, 2.5);
     checkAgainstLoad(helens, 1, 1.0 / 3.0);
     TempDir dir("tiled-exaggerated");
-    GDALAllRegister();
-    GDALDatasetH source = GDALOpen(helens.c_str(), GA_ReadOnly);
-    REQUIRE(source != nullptr);
-    const int w = GDALGetRasterXSize(source), h = GDALGetRasterYSize(source);
-    std::vector<double> z(size_t(w) * size_t(h));
-    REQUIRE(GDALRasterIO(GDALGetRasterBand(source, 1), GF_Read, 0, 0, w, h, z.data(), w, h, GDT_Float64, 0, 0) == CE_None);
-    double geo[6];
-    GDALGetGeoTransform(source, geo);
+    RasterValues read = readRaster(helens);
+    GDALDatasetH source = read.dataset;
+    const int w = read.width, h = read.height;
+    const std::vector<double>& z = read.values;
+    double* geo = read.geo;
     for (const bool wholeMetres : {false, true}) {
         const std::string path = dir.file(wholeMetres ? "metres-in-dm.tif" : "dm.tif");
         GDALDatasetH out = GDALCreate(GDALGetDriverByName("GTiff"), path.c_str(), w, h, 1, GDT_Int16, nullptr);
@@ -136,15 +155,11 @@ TEST_CASE("Tiled DEM: tiles read from a GeoTIFF in 256 x 256 blocks, whose last 
     // 256 x 256 blocks; the St Helens heights repeated to 769 x 513.
     const std::string helens = sample("usgs-dem-mt-st-helens-utm10n-nad27-int16-nodata.tif");
     TempDir dir("tiled-blocks");
-    GDALAllRegister();
-    GDALDatasetH source = GDALOpen(helens.c_str(), GA_ReadOnly);
-    REQUIRE(source != nullptr);
-    const int sw = GDALGetRasterXSize(source), sh = GDALGetRasterYSize(source);
-    std::vector<double> z(size_t(sw) * size_t(sh));
-    REQUIRE(GDALRasterIO(GDALGetRasterBand(source, 1), GF_Read, 0, 0, sw, sh, z.data(), sw, sh, GDT_Float64, 0, 0) ==
-            CE_None);
-    double geo[6];
-    GDALGetGeoTransform(source, geo);
+    RasterValues read = readRaster(helens);
+    GDALDatasetH source = read.dataset;
+    const int sw = read.width, sh = read.height;
+    const std::vector<double>& z = read.values;
+    double* geo = read.geo;
     const int w = 769, h = 513;
     for (const GDALDataType type : {GDT_Int16, GDT_Float32}) {
         const std::string path = dir.file(type == GDT_Int16 ? "blocks16.tif" : "blocks32.tif");
