@@ -123,7 +123,9 @@ TEST_CASE("CLI: render --verbose tells each phase's seconds and splits the rende
         double read, pyramid, surface, trace, sky, camera, shadow, skyRays, shading, write, total;
     };
     const auto run = [&](int skySamples) {
-        const auto r = runTerracast(fmt::format("render '{}' -o '{}' --size 160x120 --threads 2 --sky-samples {} --verbose",
+        // 320 x 240: the shadow rays take a few milliseconds, so that one wait on a busy machine (a test running
+        // beside this one) does not outweigh them.
+        const auto r = runTerracast(fmt::format("render '{}' -o '{}' --size 320x240 --threads 2 --sky-samples {} --verbose",
                                                 kWhiteMountains, out, skySamples));
         REQUIRE(r.exitCode == 0);
         CHECK(lineCount(r.err) == 2);  // the summary and the phases
