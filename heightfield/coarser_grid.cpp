@@ -16,7 +16,7 @@ HeightGrid coarserGrid(const HeightGrid& grid) {
     if (grid.tiled()) throw GridError("a coarser grid is made from a grid held in memory, not from tiles");
     if (grid.width() < 3 || grid.height() < 3)
         throw GridError("a grid of fewer than 3 x 3 vertices has no coarser grid");
-    const int64_t w = grid.cellsX() / 2 + grid.cellsX() % 2 + 1, h = grid.cellsY() / 2 + grid.cellsY() % 2 + 1;
+    const int64_t w = coarserVertexCount(grid.width()), h = coarserVertexCount(grid.height());
     std::vector<uint8_t> valid;
     bool holes = false;
     for (int64_t j = 0; j < h && !holes; ++j)
@@ -62,7 +62,7 @@ std::vector<int64_t> coarseVertexIndices(int64_t vertices, int levels) {
     for (int l = 0; l < levels; ++l) {
         const int64_t n = int64_t(index.size());
         if (n < 3) throw GridError("a grid of fewer than 3 x 3 vertices has no coarser grid");
-        const int64_t cells = n - 1, coarse = cells / 2 + cells % 2 + 1;
+        const int64_t coarse = coarserVertexCount(n);
         std::vector<int64_t> next(static_cast<size_t>(coarse));
         for (int64_t i = 0; i < coarse; ++i) next[size_t(i)] = index[size_t(std::min(2 * i, n - 1))];
         index = std::move(next);

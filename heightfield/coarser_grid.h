@@ -23,6 +23,9 @@ HeightGrid coarserGrid(const HeightGrid& grid);
 // fewer than 3 x 3 vertices to start from, and whatever a tile's read throws.
 HeightGrid coarserGrid(const HeightGrid& grid, int levels, int threads = 0);
 
+// How many vertices an axis of `vertices` (3 or more) has one level coarser: half its cells, rounded up, plus one.
+inline int64_t coarserVertexCount(int64_t vertices) { return (vertices - 1) / 2 + (vertices - 1) % 2 + 1; }
+
 // The vertices of one axis of `vertices` vertices that the grid `levels` steps coarser keeps: entry i is the
 // source index of its vertex i (coarserGrid's clamping applied at every step).
 std::vector<int64_t> coarseVertexIndices(int64_t vertices, int levels);

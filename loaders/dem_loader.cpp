@@ -9,6 +9,7 @@
 #include "tracer/core/resources.h"
 #include "tracer/core/text.h"
 #include "loaders/dem_loader.h"
+#include "loaders/block_edges.h"
 #include "loaders/dem_checks.h"
 #include "loaders/georeference.h"
 #include "loaders/png_height_map.h"
@@ -36,8 +37,8 @@
 #include <optional>
 #include <stdexcept>
 #include <string_view>
+#include <memory>
 #include <thread>
-#include <unordered_map>
 #include <unistd.h>
 #include <utility>
 
@@ -124,17 +125,9 @@ struct DemWindowReader::Impl {
     bool float32 = false;
     bool storedInBlocks = false;  // blocks narrower than the rows, or a VRT
     int64_t blockRows = 1;        // rows of band 1's storage blocks
-    int64_t blockColumns = 1;     // and columns
-    // The first raster row and column of storage blocks read so far (raw values as read, in the type read),
-    // keyed by type and block: a tile's window is a block and one more row and column, which lie in three other
-    // blocks, and reading them would decode those whole (see readRaw).
-    struct BlockEdges {
-        std::vector<unsigned char> firstRow, firstColumn;
-    };
-    mutable std::mutex edgesMutex;
-    mutable std::unordered_map<uint64_t, BlockEdges> edges;
-    mutable size_t edgeBytes = 0;
-    static constexpr size_t kEdgeBudgetBytes = size_t(16) << 20;
+    // The first row and column of band 1's blocks, kept as they are read (block_edges.h); none for a band
+    // stored in whole rows.
+    std::unique_ptr<BlockEdges> blockEdges;
     bool wholeMetres = false;  // Int16 band in metres, without scale or offset
     bool nodataInt16 = false;  // the nodata value is one an Int16 sample can hold
     mutable std::mutex readMutex;  // for `dataset` and `band`
@@ -186,7 +179,7 @@ struct DemWindowReader::Impl {
         band->GetBlockSize(&blockX, &blockY);
         storedInBlocks = driver == "VRT" || blockX < width;
         blockRows = std::max(1, blockY);
-        blockColumns = std::max(1, blockX);
+        if (blockX > 1 && blockY > 1) blockEdges = std::make_unique<BlockEdges>(width, height, blockX, blockY);
         nodataInt16 = hasNodata && nodata == std::trunc(nodata) && nodata >= -32768.0 && nodata <= 32767.0;
     }
 
@@ -224,13 +217,13 @@ struct DemWindowReader::Impl {
         std::unique_lock<std::mutex> lock;
         GDALRasterBand* reading = lockBand(lock);
         QuietGdalErrors quiet;
-        // A window that starts at a block's corner and reaches one row and one column past it (a tile's, whose
-        // last row and column are its neighbours' first): the block is read, and the extra row and column come
-        // from the first row and column of the blocks beyond, kept from when those were read (GDAL decodes a
-        // compressed block whole: reading them again cost two to three times the block's own decoding).
-        if (blockColumns > 1 && blockRows > 1 && column0 % blockColumns == 0 && row0 % blockRows == 0 &&
-            w <= blockColumns + 1 && h <= blockRows + 1 && (w == blockColumns + 1 || h == blockRows + 1)) {
-            readBlockAndEdges(*reading, column0, row0, w, h, type, static_cast<unsigned char*>(raw));
+        // A tile's window: a block and the first row and column of the blocks beyond (block_edges.h).
+        if (blockEdges && blockEdges->serves(column0, row0, w, h)) {
+            blockEdges->read(int(type), GDALGetDataTypeSizeBytes(type), column0, row0, w, h,
+                             static_cast<unsigned char*>(raw),
+                             [&](int64_t c0, int64_t r0, int64_t cw, int64_t ch, unsigned char* out, int64_t stride) {
+                                 rasterIO(*reading, c0, r0, cw, ch, type, out, stride);
+                             });
             return {column0, row0};
         }
         rasterIO(*reading, column0, row0, w, h, type, raw, w);
@@ -247,66 +240,6 @@ struct DemWindowReader::Impl {
                              static_cast<GSpacing>(stride) * bytes, nullptr) != CE_None)
             throw InputError(fmt::format("{}: cannot read rows {}..{} of band 1{}", path, row0, row0 + h - 1,
                                          gdalReason()));
-    }
-
-    // The first row and column of the block whose corner is raster (column0, row0), as `type`: kept ones, or read
-    // now (the block decoded once for both) and kept.
-    BlockEdges blockEdges(GDALRasterBand& reading, int64_t column0, int64_t row0, GDALDataType type) const {
-        const uint64_t key = (uint64_t(type) << 56) ^ (uint64_t(row0 / blockRows) << 28) ^ uint64_t(column0 / blockColumns);
-        {
-            std::lock_guard guard(edgesMutex);
-            if (const auto it = edges.find(key); it != edges.end()) return it->second;
-        }
-        const int bytes = GDALGetDataTypeSizeBytes(type);
-        const int64_t w = std::min(blockColumns, width - column0), h = std::min(blockRows, height - row0);
-        BlockEdges e;
-        e.firstRow.resize(size_t(w) * size_t(bytes));
-        e.firstColumn.resize(size_t(h) * size_t(bytes));
-        rasterIO(reading, column0, row0, w, 1, type, e.firstRow.data(), w);
-        rasterIO(reading, column0, row0, 1, h, type, e.firstColumn.data(), 1);
-        keepEdges(key, e);
-        return e;
-    }
-
-    void keepEdges(uint64_t key, const BlockEdges& e) const {
-        std::lock_guard guard(edgesMutex);
-        // A bound, not a policy: when full, start again (a tile's neighbours are read again at most once more).
-        if (edgeBytes > kEdgeBudgetBytes) {
-            edges.clear();
-            edgeBytes = 0;
-        }
-        if (edges.emplace(key, e).second) edgeBytes += e.firstRow.size() + e.firstColumn.size() + 64;
-    }
-
-    void readBlockAndEdges(GDALRasterBand& reading, int64_t column0, int64_t row0, int64_t w, int64_t h,
-                           GDALDataType type, unsigned char* raw) const {
-        const size_t bytes = size_t(GDALGetDataTypeSizeBytes(type));
-        const int64_t cw = std::min(w, blockColumns), ch = std::min(h, blockRows);
-        rasterIO(reading, column0, row0, cw, ch, type, raw, w);
-        // The block just read holds its own first row and column, for the windows that end in it.
-        if (cw == std::min(blockColumns, width - column0) && ch == std::min(blockRows, height - row0)) {
-            const uint64_t key = (uint64_t(type) << 56) ^ (uint64_t(row0 / blockRows) << 28) ^
-                                 uint64_t(column0 / blockColumns);
-            BlockEdges own;
-            own.firstRow.assign(raw, raw + size_t(cw) * bytes);
-            own.firstColumn.resize(size_t(ch) * bytes);
-            for (int64_t r = 0; r < ch; ++r)
-                std::memcpy(own.firstColumn.data() + size_t(r) * bytes, raw + size_t(r * w) * bytes, bytes);
-            keepEdges(key, own);
-        }
-        if (w > cw) {  // the column past the block: the first column of the block to its right
-            const BlockEdges right = blockEdges(reading, column0 + blockColumns, row0, type);
-            for (int64_t r = 0; r < ch; ++r)
-                std::memcpy(raw + size_t(r * w + cw) * bytes, right.firstColumn.data() + size_t(r) * bytes, bytes);
-        }
-        if (h > ch) {  // the row past the block: the first row of the block below it
-            const BlockEdges below = blockEdges(reading, column0, row0 + blockRows, type);
-            std::memcpy(raw + size_t(ch * w) * bytes, below.firstRow.data(), size_t(cw) * bytes);
-            if (w > cw) {
-                const BlockEdges corner = blockEdges(reading, column0 + blockColumns, row0 + blockRows, type);
-                std::memcpy(raw + size_t(ch * w + cw) * bytes, corner.firstRow.data(), bytes);
-            }
-        }
     }
 
     // A band no other thread is reading, locked into `lock`: the first opening when it is free, else the opening

@@ -41,7 +41,7 @@ void TerrainSurface::setLevelOfDetail(const LevelOfDetail& lod) {
     int first = 1;
     if (grid_.tiled()) {
         const double budget = double(grid_.tileSource()->cacheBudgetBytes());
-        const auto coarser = [](int64_t n) { return (n - 1) / 2 + (n - 1) % 2 + 1; };
+        const auto coarser = coarserVertexCount;
         int64_t w = grid_.width(), h = grid_.height();
         if (w >= 3 && h >= 3) {
             w = coarser(w);
@@ -84,13 +84,9 @@ void TerrainSurface::setLevelOfDetail(const LevelOfDetail& lod) {
 glm::dvec3 TerrainSurface::smoothNormalAt(const HeightFieldHit& hit) const {
     if (!coarse_.empty()) {
         const double dist = glm::length(hit.pointM - eye_);
-        const int k = int(std::upper_bound(fromM_.begin(), fromM_.end(), dist) - fromM_.begin());
-        if (k > 0) {
-            const HeightGrid& g = level(k);
-            const double x = hit.pointM.x * g.cellsPerMetreX(), y = hit.pointM.y * g.cellsPerMetreY();
-            const int64_t i = std::clamp<int64_t>(int64_t(std::floor(x)), 0, g.cellsX() - 1);
-            const int64_t j = std::clamp<int64_t>(int64_t(std::floor(y)), 0, g.cellsY() - 1);
-            return smoothNormal(g, i, j, std::clamp(x - double(i), 0.0, 1.0), std::clamp(y - double(j), 0.0, 1.0));
+        if (const int k = levelAt(dist); k > 0) {
+            const HeightFieldHit at = inCellsOf(level(k), hit);
+            return smoothNormal(level(k), at.cellX, at.cellY, at.u, at.v);
         }
     }
     return smoothNormal(grid_, hit.cellX, hit.cellY, hit.u, hit.v);
@@ -150,19 +146,23 @@ bool TerrainSurface::byLevel(const Ray& ray, Interval interval, Visit&& visit) c
         // The level of the stretch, from a point inside it (beyond the last cut when it reaches infinity).
         const double mid = std::isfinite(hi) ? 0.5 * (lo + hi) : lo + std::max(1.0, std::abs(lo));
         const double dist = glm::length(oe + mid * ray.dir);
-        const int levelIndex = int(std::upper_bound(fromM_.begin(), fromM_.end(), dist) - fromM_.begin());
+        const int levelIndex = levelAt(dist);
         if (visit(levelIndex, Interval{lo, hi})) return true;
     }
     return false;
 }
 
-HeightFieldHit TerrainSurface::inFineCells(HeightFieldHit hit) const {
-    const double x = hit.pointM.x * grid_.cellsPerMetreX(), y = hit.pointM.y * grid_.cellsPerMetreY();
-    hit.cellX = std::clamp<int64_t>(int64_t(std::floor(x)), 0, grid_.cellsX() - 1);
-    hit.cellY = std::clamp<int64_t>(int64_t(std::floor(y)), 0, grid_.cellsY() - 1);
+HeightFieldHit TerrainSurface::inCellsOf(const HeightGrid& g, HeightFieldHit hit) {
+    const double x = hit.pointM.x * g.cellsPerMetreX(), y = hit.pointM.y * g.cellsPerMetreY();
+    hit.cellX = std::clamp<int64_t>(int64_t(std::floor(x)), 0, g.cellsX() - 1);
+    hit.cellY = std::clamp<int64_t>(int64_t(std::floor(y)), 0, g.cellsY() - 1);
     hit.u = std::clamp(x - double(hit.cellX), 0.0, 1.0);
     hit.v = std::clamp(y - double(hit.cellY), 0.0, 1.0);
     return hit;
+}
+
+int TerrainSurface::levelAt(double distanceM) const {
+    return int(std::upper_bound(fromM_.begin(), fromM_.end(), distanceM) - fromM_.begin());
 }
 
 std::optional<HeightFieldHit> TerrainSurface::underLevel(int k, const Ray& ray, double t) const {
@@ -252,8 +252,7 @@ bool TerrainSurface::occluded(const Ray& ray, Interval interval) const {
     // The whole ray on the level of where it starts: occlusion rays leave a hit (shadow and sky-visibility rays)
     // and test the surface they left; cutting them where they cross levels costs a walk's set-up per stretch.
     const glm::dvec3 start = ray.origin + std::max(interval.lo, 0.0) * ray.dir;
-    const int k = int(std::upper_bound(fromM_.begin(), fromM_.end(), glm::length(start - eye_)) - fromM_.begin());
-    return terracast::occluded(level(k), ray, interval, cell_, nullptr, traversal_);
+    return terracast::occluded(level(levelAt(glm::length(start - eye_))), ray, interval, cell_, nullptr, traversal_);
 }
 
 int64_t TerrainSurface::memoryBytes() const {

@@ -95,7 +95,11 @@ private:
     // surface, as a hit at t located in this grid's cells.
     std::optional<HeightFieldHit> underLevel(int k, const Ray& ray, double t) const;
     // A hit on level k located in this grid's cells.
-    HeightFieldHit inFineCells(HeightFieldHit hit) const;
+    HeightFieldHit inFineCells(HeightFieldHit hit) const { return inCellsOf(grid_, hit); }
+    // `hit` located in grid g's cells (cellX, cellY, u, v from its point, clamped to the grid).
+    static HeightFieldHit inCellsOf(const HeightGrid& g, HeightFieldHit hit);
+    // The level a point at `distanceM` from the eye is traced on (0: the grid itself).
+    int levelAt(double distanceM) const;
 };
 
 }  // namespace terracast
