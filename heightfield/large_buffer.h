@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <type_traits>
 #include <vector>
 
 namespace terracast {
@@ -19,12 +20,21 @@ void setLargeBufferAdvisor(LargeBufferAdvisor advisor);
 // Offers [data, data + bytes) to the advisor when one is installed and the range is large (a few MiB or more).
 void adviseLargeBuffer(void* data, size_t bytes);
 
+// Writes one byte of every page of [data, data + bytes), on several threads when the range is large, so that
+// the page faults of a large array's first touch (the kernel zeroing each page and, on a virtual machine, the
+// host providing it: about 2 ms a MiB on the machine of docs/bench.md) are taken in parallel rather than on the
+// one thread that fills the array (docs/architecture.md, "Memory"). The bytes written are zeros; whatever
+// fills the range afterwards overwrites them.
+void touchLargeBuffer(void* data, size_t bytes);
+
 // A vector of `n` copies of `value`, its memory offered to the advisor before it is filled.
 template <class T>
 std::vector<T> largeVector(size_t n, const T& value = T{}) {
+    static_assert(std::is_trivially_copyable_v<T>, "largeVector touches the storage before it holds elements");
     std::vector<T> v;
     v.reserve(n);
     adviseLargeBuffer(v.data(), n * sizeof(T));
+    touchLargeBuffer(v.data(), n * sizeof(T));
     v.assign(n, value);
     return v;
 }

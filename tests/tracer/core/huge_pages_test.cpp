@@ -7,6 +7,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <fstream>
 #include <sstream>
@@ -86,4 +88,29 @@ TEST_CASE("Large buffers: the executable's advisor gets transparent huge pages w
     INFO("transparent huge pages: " << mode << "; " << kib << " KiB of huge pages in the array's mapping");
     // At least half of the array: the kernel may fall back to small pages where it finds no free 2 MiB block.
     CHECK(kib >= 32 * 1024);
+}
+
+TEST_CASE("Large buffers: the parallel first touch writes a zero in every page of its range and nowhere else",
+          "[core]") {
+    // 24 MiB, above the size the touch splits over threads; the range starts and ends off page boundaries.
+    std::vector<uint8_t> bytes(size_t(24) << 20, uint8_t(0xAB));
+    const size_t begin = 4096 * 3 + 5, end = bytes.size() - 4096 * 2 - 7;
+    touchLargeBuffer(bytes.data() + begin, end - begin);
+    size_t outsideChanged = 0, zeros = 0, pagesWithoutZero = 0;
+    for (size_t k = 0; k < bytes.size(); ++k) {
+        if (k < begin || k >= end) outsideChanged += bytes[k] != 0xAB;
+        else zeros += bytes[k] == 0;
+    }
+    // Every 4096-byte window of the range holds a written byte: no page is left for the filling thread.
+    for (size_t w = begin; w + 4096 <= end; w += 4096) {
+        bool any = false;
+        for (size_t k = w; k < w + 4096; ++k) any = any || bytes[k] == 0;
+        pagesWithoutZero += !any;
+    }
+    CHECK(outsideChanged == 0);
+    CHECK(pagesWithoutZero == 0);
+    CHECK(zeros == (end - begin + 4095) / 4096);
+    // And a large vector still holds its value everywhere once filled.
+    const std::vector<int16_t> codes = largeVector<int16_t>(size_t(12) << 20, int16_t(-7));
+    CHECK(std::count(codes.begin(), codes.end(), int16_t(-7)) == std::ptrdiff_t(codes.size()));
 }
