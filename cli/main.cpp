@@ -4,6 +4,7 @@
 #include "tracer/core/text.h"
 
 #include "tracer/core/cancel.h"
+#include "heightfield/large_buffer.h"
 #include "tracer/core/huge_pages.h"
 #include "tracer/core/ranks.h"
 
@@ -105,6 +106,11 @@ int main(int argc, char** argv) {
             ranks::finish();
             return 2;
         }
+        // A command's --threads bounds the library's passes over whole arrays too (building the grid), so that
+        // a job given one core uses one (bench measures its own thread counts).
+        if (const CLI::Option* threads = command.app->get_option_no_throw("--threads");
+            threads != nullptr && threads->count() > 0 && name != "bench")
+            setArrayPassThreads(threads->as<int>());
         const int code = command.run();
         ranks::finish();
         return code;

@@ -1,4 +1,5 @@
 #include "heightfield/coarser_grid.h"
+#include "heightfield/large_buffer.h"
 
 #include "heightfield/height_tile.h"
 
@@ -144,7 +145,7 @@ HeightGrid coarserGrid(const HeightGrid& grid, int levels, int threads) {
             }
         };
         const int64_t count = std::clamp<int64_t>(
-            threads > 0 ? threads : int64_t(std::max(1u, std::thread::hardware_concurrency())), 1, tiles);
+            threads > 0 ? threads : int64_t(arrayPassThreads()), 1, tiles);
         std::vector<std::thread> pool;
         try {
             for (int64_t k = 1; k < count; ++k) pool.emplace_back(work);

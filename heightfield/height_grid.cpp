@@ -26,14 +26,12 @@ namespace {
 // f must not throw.
 template <typename F>
 void parallelRanges(int64_t n, int64_t workPerItem, F&& f) {
-    // hardware_concurrency reads a file under /sys on Linux: asked once, and only for work worth threads (a
-    // tile's small pyramid levels come here thousands of times).
+    // Threads only for work worth them (a tile's small pyramid levels come here thousands of times).
     if (n * workPerItem < (int64_t(1) << 20)) {
         f(int64_t(0), n);
         return;
     }
-    static const int64_t hardwareThreads = std::max<int64_t>(1, int64_t(std::thread::hardware_concurrency()));
-    const int64_t threads = std::min<int64_t>(n, hardwareThreads);
+    const int64_t threads = std::min<int64_t>(n, arrayPassThreads());
     if (threads <= 1) {
         f(int64_t(0), n);
         return;

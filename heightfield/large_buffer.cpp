@@ -1,6 +1,7 @@
 #include "heightfield/large_buffer.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <thread>
 #include <vector>
@@ -23,13 +24,22 @@ void touchPages(volatile unsigned char* data, size_t bytes) {
     for (size_t k = 0; k < bytes; k += kPageBytes) data[k] = 0;
 }
 
+std::atomic<int> arrayPassLimit{0};
+
 }  // namespace
+
+void setArrayPassThreads(int threads) { arrayPassLimit.store(std::max(threads, 0)); }
+
+int arrayPassThreads() {
+    if (const int limit = arrayPassLimit.load(); limit > 0) return limit;
+    // hardware_concurrency reads a file under /sys on Linux: asked once.
+    static const int hardwareThreads = int(std::max(1u, std::thread::hardware_concurrency()));
+    return hardwareThreads;
+}
 
 void touchLargeBuffer(void* data, size_t bytes) {
     if (!data || bytes < kParallelTouchBytes) return;
-    // hardware_concurrency reads a file under /sys on Linux: asked once.
-    static const size_t hardwareThreads = std::max(1u, std::thread::hardware_concurrency());
-    const size_t threads = std::min(hardwareThreads, bytes / kParallelTouchBytes * 2);
+    const size_t threads = std::min(size_t(arrayPassThreads()), bytes / kParallelTouchBytes * 2);
     if (threads <= 1) return;
     auto* bytesAt = static_cast<volatile unsigned char*>(data);
     // Slices on page boundaries, each thread touching its own pages.

@@ -20,10 +20,16 @@ void setLargeBufferAdvisor(LargeBufferAdvisor advisor);
 // Offers [data, data + bytes) to the advisor when one is installed and the range is large (a few MiB or more).
 void adviseLargeBuffer(void* data, size_t bytes);
 
+// The threads that passes over whole arrays in this layer take (building a grid's codes, flags and pyramid, and
+// the first touch below): all cores unless a command limits them, as its --threads does. 0 = all cores.
+void setArrayPassThreads(int threads);
+// The count in force, at least 1.
+int arrayPassThreads();
+
 // Writes one byte of every page of [data, data + bytes), on several threads when the range is large, so that
 // the page faults of a large array's first touch (the kernel zeroing each page and, on a virtual machine, the
-// host providing it: about 2 ms a MiB on the machine of docs/bench.md) are taken in parallel rather than on the
-// one thread that fills the array (docs/architecture.md, "Memory"). The bytes written are zeros; whatever
+// host providing it: about 2 ms a MiB on the machine of docs/bench.md) are taken on arrayPassThreads() threads
+// rather than on the one thread that fills the array (docs/architecture.md, "Memory"). The bytes written are zeros; whatever
 // fills the range afterwards overwrites them.
 void touchLargeBuffer(void* data, size_t bytes);
 

@@ -6,6 +6,7 @@
 #include "loaders/image_io.h"
 #include "loaders/png_encoder.h"
 
+#include "heightfield/large_buffer.h"
 #include "tracer/core/errors.h"
 
 #include <fcntl.h>
@@ -22,6 +23,7 @@
 #include <fstream>
 #include <stdexcept>
 #include <string_view>
+#include <thread>
 #include <utility>
 
 namespace terracast {
@@ -190,8 +192,17 @@ void writeImage(const std::string& path, const RgbImage& image) {
     std::string bytes;
     if (png) {
         std::vector<uint8_t> levels(image.rgb.size());
-        for (size_t k = 0; k < levels.size(); ++k)
-            levels[k] = srgbByte(image.rgb[k]);
+        // The transfer function's power takes about 7 ns a value: a 1920 x 1080 picture's 6.2 million values
+        // are converted on the array-pass threads (heightfield/large_buffer.h), in contiguous slices.
+        const size_t n = levels.size();
+        const size_t threads = n < (size_t(1) << 20) ? 1 : size_t(arrayPassThreads());
+        auto convert = [&](size_t t) {
+            for (size_t k = n * t / threads, end = n * (t + 1) / threads; k < end; ++k) levels[k] = srgbByte(image.rgb[k]);
+        };
+        std::vector<std::thread> pool;
+        for (size_t t = 1; t < threads; ++t) pool.emplace_back(convert, t);
+        convert(0);
+        for (auto& thread : pool) thread.join();
         bytes = png::encode(path, image.width, image.height, png::Layout::SrgbRgb8, levels.data());
     } else {
         bytes = encodeInMemory(path, image.width, image.height, 3, PixelType::Half, "Linear", PixelType::Float,

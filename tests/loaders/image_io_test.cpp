@@ -6,8 +6,10 @@
 
 #include <OpenImageIO/imageio.h>
 #include <catch2/catch.hpp>
+#include <zlib.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -100,6 +102,48 @@ TEST_CASE("PNG stores rounded sRGB levels and clamps out-of-range values", "[loa
     const size_t srgb = png.find("sRGB"), data = png.find("IDAT");
     CHECK(srgb != std::string::npos);
     CHECK(srgb < data);
+}
+
+TEST_CASE("PNG of a large picture: every value's sRGB level, each row filtered by Sub", "[loaders]") {
+    // 1024 x 512 x 3 values: more than the 2^20 above which the levels are made on several threads.
+    TempDir dir;
+    RgbImage image;
+    image.width = 1024;
+    image.height = 512;
+    image.rgb.resize(size_t(image.width) * size_t(image.height) * 3);
+    uint32_t state = 12345;
+    for (float& v : image.rgb) {
+        state = state * 1664525u + 1013904223u;
+        v = float(state >> 8) / float(1u << 24) * 1.2f - 0.1f;  // some below 0 and above 1
+    }
+    const std::string path = dir.file("large.png");
+    writeImage(path, image);
+    int channels = 0;
+    const std::vector<unsigned char> bytes = storedBytes(path, channels);
+    REQUIRE(channels == 3);
+    REQUIRE(bytes.size() == image.rgb.size());
+    size_t wrong = 0;
+    for (size_t k = 0; k < bytes.size(); ++k) wrong += bytes[k] != srgbByte(image.rgb[k]);
+    CHECK(wrong == 0);
+    // The image data, inflated: one filter-type byte before each row's 3 x 1024 bytes, 1 (Sub) on every row.
+    std::ifstream file(path, std::ios::binary);
+    const std::string png((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    std::string stream;
+    for (size_t at = 8; at + 8 <= png.size();) {
+        const uint32_t length = uint32_t((unsigned char)png[at]) << 24 | uint32_t((unsigned char)png[at + 1]) << 16 |
+                                uint32_t((unsigned char)png[at + 2]) << 8 | uint32_t((unsigned char)png[at + 3]);
+        if (png.compare(at + 4, 4, "IDAT") == 0) stream += png.substr(at + 8, length);
+        at += 12 + size_t(length);
+    }
+    const size_t rowBytes = 1 + 3 * size_t(image.width);
+    std::vector<unsigned char> raw(rowBytes * size_t(image.height));
+    uLongf rawLength = uLongf(raw.size());
+    REQUIRE(uncompress(raw.data(), &rawLength, reinterpret_cast<const Bytef*>(stream.data()), uLong(stream.size())) ==
+            Z_OK);
+    REQUIRE(rawLength == raw.size());
+    size_t notSub = 0;
+    for (int y = 0; y < image.height; ++y) notSub += raw[size_t(y) * rowBytes] != 1;
+    CHECK(notSub == 0);
 }
 
 TEST_CASE("EXR round trip keeps linear values, including values above 1, to half precision", "[loaders]") {

@@ -3,6 +3,7 @@
 #include "tracer/core/modules.h"
 #include "tracer/core/ranks_api.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cstdlib>
 #include <mutex>
@@ -16,6 +17,8 @@ namespace {
 const TerracastRanksApi* api = nullptr;  // set by start() in a launch
 int myRank = 0, rankCount = 1;
 std::atomic<int64_t> localTasks{0};
+// nextTaskInSpans's place: the span this rank draws from, and how many spans it has found spent.
+int spanCursor = 0, spansSpent = 0;
 bool finished = false;
 
 bool many() { return api != nullptr && rankCount > 1; }
@@ -77,12 +80,44 @@ void sumToLeader(float* values, size_t count) {
     if (many()) api->sumFloatsToLeader(values, count);
 }
 
+void sumFloats(float* values, size_t count) {
+    if (many()) api->sumFloats(values, count);
+}
+
+namespace {
+int sharedWorkDepth = 0;
+}  // namespace
+
+SharedWork::SharedWork() { ++sharedWorkDepth; }
+SharedWork::~SharedWork() { --sharedWorkDepth; }
+bool sharingWork() { return many() && sharedWorkDepth > 0; }
+
 void resetTasks() {
     if (many()) api->resetTasks();
     else localTasks = 0;
+    spanCursor = myRank;
+    spansSpent = 0;
 }
 
-int64_t nextTask() { return many() ? api->nextTask() : localTasks++; }
+int64_t nextTask() { return many() ? api->nextTask(0) : localTasks++; }
+
+int64_t nextTaskInSpans(const std::vector<int64_t>& spanEnds) {
+    if (spanEnds.empty()) return 0;
+    const int64_t end = spanEnds.back();
+    if (!many() || int(spanEnds.size()) != rankCount) {
+        const int64_t task = nextTask();
+        return std::min(task, end);
+    }
+    while (spansSpent < rankCount) {
+        const int s = spanCursor;
+        const int64_t begin = s == 0 ? 0 : spanEnds[size_t(s - 1)];
+        const int64_t task = begin + api->nextTask(s);
+        if (task < spanEnds[size_t(s)]) return task;
+        ++spansSpent;
+        spanCursor = (spanCursor + 1) % rankCount;
+    }
+    return end;
+}
 
 void abortAll(int code) {
     if (many()) api->abortAll(code);

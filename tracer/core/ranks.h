@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace terracast::ranks {
 
@@ -33,12 +34,38 @@ void broadcast(void* data, size_t bytes, int root = 0);
 void sum(int64_t* values, size_t count);
 // Sums `count` floats over the ranks into the leader's array (the others' arrays are left as they were).
 void sumToLeader(float* values, size_t count);
+// Sums `count` floats over the ranks, in place on every rank.
+void sumFloats(float* values, size_t count);
+
+// While one of these is alive on every rank, the constructions that can split their work over the ranks do
+// (the physical sky's tables: each rank fills a share of the entries, then the shares are summed on every rank,
+// which gives every rank the whole tables, each entry as one process computes it). Every rank must then construct
+// the same things, in the same order: only code that all ranks run alike opens one. Without ranks it changes
+// nothing.
+class SharedWork {
+public:
+    SharedWork();
+    ~SharedWork();
+    SharedWork(const SharedWork&) = delete;
+    SharedWork& operator=(const SharedWork&) = delete;
+};
+// True inside a SharedWork of a launch of more than one rank.
+bool sharingWork();
+
 // Starts a new shared count of tasks (collective).
 void resetTasks();
 
 // The next task of the shared count: 0, 1, 2, ... handed out once each over all ranks, first come first
 // served (the dynamic load balancing of tiles). Not collective.
 int64_t nextTask();
+
+// Tasks 0 .. spanEnds.back() - 1 cut into size() spans, span r ending (exclusive) at spanEnds[r]: each rank takes
+// the tasks of its own span in order first, then helps with the others' (r + 1, r + 2, ... round), taking their
+// next tasks first come first served. Every task goes to exactly one rank; spanEnds.back() once none is left.
+// So a rank keeps to a part of the work (a part of the picture, which reads a part of the DEM) while it lasts,
+// and the load still balances at the end. Starts after resetTasks(), every rank with the same spans; one
+// thread per rank calls it. Not collective. Without ranks (one span), the tasks in order.
+int64_t nextTaskInSpans(const std::vector<int64_t>& spanEnds);
 
 // Ends every rank of the launch with `code` (MPI_Abort): after a failure on one rank, the others must not wait
 // for it. Without a launch it only exits.

@@ -12,6 +12,7 @@ namespace {
 
 MPI_Win counterWindow = MPI_WIN_NULL;
 int64_t* counter = nullptr;
+int counters = 1;
 
 int init(int* rank, int* size) {
     // When every rank runs on this machine (Open MPI says so in the environment mpirun gives each rank), its
@@ -27,13 +28,15 @@ int init(int* rank, int* size) {
     MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_ARE_FATAL);
     MPI_Comm_rank(MPI_COMM_WORLD, rank);
     MPI_Comm_size(MPI_COMM_WORLD, size);
-    // The shared task count: one int64 on rank 0, read and advanced atomically by MPI_Fetch_and_op under a
-    // passive lock that every rank holds for the whole run.
-    const MPI_Aint bytes = *rank == 0 ? MPI_Aint(sizeof(int64_t)) : 0;
+    // The shared task counts, one per rank (tasks handed out by spans, ranks.h): int64s on rank 0, read and
+    // advanced atomically by MPI_Fetch_and_op under a passive lock that every rank holds for the whole run.
+    counters = *size;
+    const MPI_Aint bytes = *rank == 0 ? MPI_Aint(sizeof(int64_t)) * counters : 0;
     if (MPI_Win_allocate(bytes, sizeof(int64_t), MPI_INFO_NULL, MPI_COMM_WORLD, &counter, &counterWindow) !=
         MPI_SUCCESS)
         return 2;
-    if (*rank == 0) *counter = 0;
+    if (*rank == 0)
+        for (int k = 0; k < counters; ++k) counter[k] = 0;
     MPI_Win_lock_all(0, counterWindow);
     MPI_Barrier(MPI_COMM_WORLD);
     return 0;
@@ -64,23 +67,33 @@ void sumFloatsToLeader(float* values, size_t count) {
     }
 }
 
+void sumFloats(float* values, size_t count) {
+    for (size_t done = 0; done < count;) {
+        const int chunk = int(count - done < (size_t(1) << 28) ? count - done : (size_t(1) << 28));
+        MPI_Allreduce(MPI_IN_PLACE, values + done, chunk, MPI_FLOAT, MPI_SUM, MPI_COMM_WORLD);
+        done += size_t(chunk);
+    }
+}
+
 void resetTasks() {
     int rank = 0;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Barrier(MPI_COMM_WORLD);
     if (rank == 0) {
         const int64_t zero = 0;
-        int64_t old = 0;
-        MPI_Fetch_and_op(&zero, &old, MPI_INT64_T, 0, 0, MPI_REPLACE, counterWindow);
+        for (int k = 0; k < counters; ++k) {
+            int64_t old = 0;
+            MPI_Fetch_and_op(&zero, &old, MPI_INT64_T, 0, MPI_Aint(k), MPI_REPLACE, counterWindow);
+        }
         MPI_Win_flush(0, counterWindow);
     }
     MPI_Barrier(MPI_COMM_WORLD);
 }
 
-int64_t nextTask() {
+int64_t nextTask(int count) {
     const int64_t one = 1;
     int64_t task = 0;
-    MPI_Fetch_and_op(&one, &task, MPI_INT64_T, 0, 0, MPI_SUM, counterWindow);
+    MPI_Fetch_and_op(&one, &task, MPI_INT64_T, 0, MPI_Aint(count), MPI_SUM, counterWindow);
     MPI_Win_flush(0, counterWindow);
     return task;
 }
@@ -101,7 +114,7 @@ extern "C" {
 
 __attribute__((visibility("default"))) const TerracastRanksApi* terracastRanks() {
     static const TerracastRanksApi api{TERRACAST_RANKS_API_VERSION, init, barrier, broadcast, sumInt64, sumFloatsToLeader,
-                                       resetTasks, nextTask, abortAll, finalize};
+                                       sumFloats, resetTasks, nextTask, abortAll, finalize};
     return &api;
 }
 

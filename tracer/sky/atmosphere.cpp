@@ -1,5 +1,7 @@
 #include "tracer/sky/atmosphere.h"
 
+#include "tracer/core/ranks.h"
+
 #include "tracer/core/angles.h"
 
 #include <tbb/parallel_for.h>
@@ -74,7 +76,12 @@ glm::dvec3 opticalDepthToTop(const AtmosphereParameters& a, double r, double mu,
 TransmittanceTable::TransmittanceTable(const AtmosphereParameters& a) : a_(a), depth_(size_t(kMuSize) * kRSize) {
     const double R = a.earthRadiusM, Rt = a.topRadiusM;
     const double H = std::sqrt(Rt * Rt - R * R);
+    // Under ranks sharing their work, rank r fills the rows j with j mod K = r; the sum over the ranks completes
+    // the table on every rank (as SkyTables does).
+    const bool shared = ranks::sharingWork();
+    const int rank = shared ? ranks::rank() : 0, stride = shared ? ranks::size() : 1;
     tbb::parallel_for(0, kRSize, [&](int j) {
+        if (j % stride != rank) return;
         const double rho = H * double(j) / (kRSize - 1);
         const double r = std::sqrt(rho * rho + R * R);
         const double dMin = Rt - r, dMax = rho + H;
@@ -85,6 +92,7 @@ TransmittanceTable::TransmittanceTable(const AtmosphereParameters& a) : a_(a), d
             depth_[size_t(j) * kMuSize + size_t(i)] = glm::vec3(opticalDepthToTop(a, r, mu, 32));
         }
     });
+    if (shared) ranks::sumFloats(&depth_[0].x, depth_.size() * 3);
 }
 
 glm::dvec3 TransmittanceTable::opticalDepth(double r, double mu) const {
@@ -182,9 +190,15 @@ SkyTables::SkyTables(std::shared_ptr<const TransmittanceTable> transmittance, do
         const double rxy = std::sqrt(std::max(0.0, 1.0 - z * z));
         return glm::dvec3(rxy * flat, z);
     };
+    // Under ranks sharing their work (ranks::SharedWork), rank r fills the columns c with c mod K = r and the
+    // others stay zero until the sum over the ranks completes them.
+    const bool shared = ranks::sharingWork();
+    const int rank = shared ? ranks::rank() : 0, stride = shared ? ranks::size() : 1;
+    auto mine = [&](int c) { return c % stride == rank; };
     sky_.resize(size_t(kAzimuthSize) * kSkyRows);
     ground_.resize(size_t(kAzimuthSize) * kGroundRows);
     tbb::parallel_for(0, kAzimuthSize, [&](int c) {
+        if (!mine(c)) return;
         for (int k = 0; k < kSkyRows; ++k)
             sky_[size_t(k) * kAzimuthSize + size_t(c)] =
                 march(direction(c, kAzimuthSize, zOfRow(k, false, kSkyRows)), 1e30, 64, nullptr);
@@ -194,6 +208,7 @@ SkyTables::SkyTables(std::shared_ptr<const TransmittanceTable> transmittance, do
     });
     aerial_.resize(size_t(kAerialAzimuth) * kAerialRows * kAerialSlices);
     tbb::parallel_for(0, kAerialAzimuth, [&](int c) {
+        if (!mine(c)) return;
         std::vector<Texel> slices;
         for (int k = 0; k < kAerialRows; ++k) {
             const double x = 2.0 * k / (kAerialRows - 1) - 1.0;
@@ -202,6 +217,12 @@ SkyTables::SkyTables(std::shared_ptr<const TransmittanceTable> transmittance, do
                       aerial_.begin() + ptrdiff_t((size_t(k) * kAerialAzimuth + size_t(c)) * kAerialSlices));
         }
     });
+    if (shared) {
+        // x + 0 = x: each entry comes out as the one rank that computed it made it.
+        static_assert(sizeof(Texel) == 9 * sizeof(float), "a texel is nine floats");
+        for (std::vector<Texel>* table : {&sky_, &ground_, &aerial_})
+            ranks::sumFloats(reinterpret_cast<float*>(table->data()), table->size() * 9);
+    }
 }
 
 // Rows by the height z of the unit direction: a hair off the tangent itself, so that the horizon rows see sky and

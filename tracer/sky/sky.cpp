@@ -1,5 +1,7 @@
 #include "tracer/sky/sky.h"
 
+#include "tracer/core/ranks.h"
+
 #include "tracer/core/angles.h"
 
 #include "tracer/sampling/warps.h"
@@ -36,7 +38,8 @@ std::shared_ptr<const TransmittanceTable> sharedTransmittanceTable(const Atmosph
     static std::map<double, std::shared_ptr<const TransmittanceTable>> cache;
     std::lock_guard lock(mutex);
     auto& entry = cache[parameters.haze];
-    if (!entry) entry = std::make_shared<const TransmittanceTable>(parameters);
+    // Ranks sharing the work all build the table together (sharedSkyTables below says why).
+    if (!entry || ranks::sharingWork()) entry = std::make_shared<const TransmittanceTable>(parameters);
     return entry;
 }
 
@@ -56,8 +59,10 @@ std::shared_ptr<const SkyTables> sharedSkyTables(const std::shared_ptr<const Tra
     static std::mutex mutex;
     static std::deque<Entry> recent;
     std::lock_guard lock(mutex);
-    for (const Entry& e : recent)
-        if (e.transmittance == transmittance.get() && e.altitudeM == viewerAltitudeM && e.sun == sun) return e.tables;
+    // Ranks sharing the work all build the tables together: none may take them from its own history instead.
+    if (!ranks::sharingWork())
+        for (const Entry& e : recent)
+            if (e.transmittance == transmittance.get() && e.altitudeM == viewerAltitudeM && e.sun == sun) return e.tables;
     auto tables = std::make_shared<const SkyTables>(transmittance, viewerAltitudeM, sun);
     recent.push_front({transmittance.get(), viewerAltitudeM, sun, tables});
     if (recent.size() > 2) recent.pop_back();

@@ -11,10 +11,24 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <utility>
+#include <vector>
 
 #include <tbb/global_control.h>
 
 namespace terracast {
+
+BlockOrder blocksBySpans(int blocksX, int blocksY, int spans) {
+    BlockOrder order;
+    order.blocks.reserve(size_t(std::max(blocksX, 0)) * size_t(std::max(blocksY, 0)));
+    for (int r = 0; r < spans; ++r) {
+        const int c0 = int(int64_t(blocksX) * r / spans), c1 = int(int64_t(blocksX) * (r + 1) / spans);
+        for (int y = 0; y < blocksY; ++y)
+            for (int x = c0; x < c1; ++x) order.blocks.emplace_back(x, y);
+        order.spanEnds.push_back(int64_t(order.blocks.size()));
+    }
+    return order;
+}
 
 Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const TerrainRenderSettings& s,
                    RenderStats* stats) {
@@ -26,7 +40,13 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
         threadLimit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                             static_cast<size_t>(s.threads));
     Film film(s.width, s.height);
-    TerrainShader shader(grid, surface, s.sun, s.sky, s.camera.eyeM.z, s.seed, s.smoothNormals, s.look);
+    // Every rank of a render gets here alike: the sky's tables are shared out over the ranks.
+    std::optional<TerrainShader> made = [&] {
+        const ranks::SharedWork share;
+        return std::optional<TerrainShader>(std::in_place, grid, surface, s.sun, s.sky, s.camera.eyeM.z, s.seed,
+                                            s.smoothNormals, s.look);
+    }();
+    TerrainShader& shader = *made;
     shader.timeSecondaryRays(s.timePhases);
     const double setupSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
@@ -120,9 +140,13 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
         if (s.threads > 0)
             limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                           static_cast<size_t>(s.threads));
+        // Each rank starts on its own columns of blocks, a part of the picture and so mostly a part of the DEM;
+        // once they are done it helps with the others' (ranks::nextTaskInSpans). One process: picture order.
+        const BlockOrder order = blocksBySpans(blocksX, blocksY, ranks::size());
         ranks::resetTasks();
-        for (int64_t k = ranks::nextTask(); k < int64_t(blocksX) * blocksY; k = ranks::nextTask()) {
-            const int bx = int(k % blocksX) * block, by = int(k / blocksX) * block;
+        for (int64_t k = ranks::nextTaskInSpans(order.spanEnds); k < int64_t(order.blocks.size());
+             k = ranks::nextTaskInSpans(order.spanEnds)) {
+            const int bx = order.blocks[size_t(k)].first * block, by = order.blocks[size_t(k)].second * block;
             const int bw = std::min(block, s.width - bx), bh = std::min(block, s.height - by);
             // The thread limit is set above, once for every block.
             parallelForTiles(bw, bh, s.tileSize, 0, [&](int x0, int y0, int x1, int y1) {

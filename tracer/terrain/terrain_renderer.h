@@ -18,6 +18,8 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <utility>
+#include <vector>
 
 namespace terracast {
 
@@ -85,6 +87,15 @@ void traceCameraRays(const TerrainSurface& surface, const PinholeCamera& camera,
                 for (int x = bx; x < ex; ++x, ++n) pixel(x, y, rays[n], hits[n]);
         }
 }
+
+// The order in which the ranks of a launch draw a picture's blocks (blocksX x blocksY of them) when the picture is
+// shared over `spans` ranks: span r is the blocks of columns [blocksX r / spans, blocksX (r + 1) / spans), row by
+// row, ending (exclusive) at spanEnds[r] in `blocks` (ranks::nextTaskInSpans). One span is picture order.
+struct BlockOrder {
+    std::vector<std::pair<int, int>> blocks;  // (column, row) of each task
+    std::vector<int64_t> spanEnds;
+};
+BlockOrder blocksBySpans(int blocksX, int blocksY, int spans);
 
 // Renders `grid`, traced through `surface`, into a linear RGB film.
 Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const TerrainRenderSettings& settings,

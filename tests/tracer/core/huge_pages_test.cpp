@@ -114,3 +114,20 @@ TEST_CASE("Large buffers: the parallel first touch writes a zero in every page o
     const std::vector<int16_t> codes = largeVector<int16_t>(size_t(12) << 20, int16_t(-7));
     CHECK(std::count(codes.begin(), codes.end(), int16_t(-7)) == std::ptrdiff_t(codes.size()));
 }
+
+TEST_CASE("Large buffers: a command's thread count bounds the passes over whole arrays", "[core]") {
+    const int all = arrayPassThreads();
+    CHECK(all >= 1);
+    setArrayPassThreads(1);
+    CHECK(arrayPassThreads() == 1);
+    // On one thread there is no first touch to share: the thread that fills the array takes the faults itself.
+    std::vector<uint8_t> bytes(size_t(16) << 20, uint8_t(0xAB));
+    touchLargeBuffer(bytes.data(), bytes.size());
+    CHECK(std::count(bytes.begin(), bytes.end(), uint8_t(0)) == 0);
+    setArrayPassThreads(3);
+    CHECK(arrayPassThreads() == 3);
+    touchLargeBuffer(bytes.data(), bytes.size());
+    CHECK(size_t(std::count(bytes.begin(), bytes.end(), uint8_t(0))) == bytes.size() / 4096);
+    setArrayPassThreads(0);  // back to all cores
+    CHECK(arrayPassThreads() == all);
+}

@@ -1,12 +1,16 @@
 // The terrain renderer: camera framing, analytic shading of simple grids, and a golden image of a real DEM.
 #include "loaders/dem_loader.h"
 #include "loaders/image_io.h"
+#include "tracer/core/ranks.h"
 #include "tracer/terrain/terrain_renderer.h"
 #include "support/golden.h"
 
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
+#include <utility>
+#include <vector>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -190,4 +194,38 @@ TEST_CASE("Golden image: St Helens at 160x90 matches the committed reference", "
     s.camera = autoCamera(loaded.grid, 160.0 / 90.0);
     const Film film = renderTerrain(loaded.grid, TerrainSurface(loaded.grid, SurfaceMethod::Bilinear), s);
     testing::checkGolden(RgbImage{film.width, film.height, film.rgb}, golden);
+}
+
+TEST_CASE("Ranks' picture blocks: each rank's span is its own columns, and every block is drawn once", "[terrain]") {
+    for (const auto& [bx, by, spans] : std::vector<std::array<int, 3>>{{15, 9, 2}, {15, 9, 3}, {2, 5, 4}, {7, 1, 1}}) {
+        INFO(bx << " x " << by << " blocks over " << spans << " spans");
+        const BlockOrder order = blocksBySpans(bx, by, spans);
+        REQUIRE(order.spanEnds.size() == size_t(spans));
+        REQUIRE(order.spanEnds.back() == int64_t(order.blocks.size()));
+        std::vector<int> seen(size_t(bx * by), 0);
+        int64_t begin = 0;
+        for (int r = 0; r < spans; ++r) {
+            const int c0 = bx * r / spans, c1 = bx * (r + 1) / spans;
+            // Whole columns [c0, c1), row by row.
+            CHECK(order.spanEnds[size_t(r)] - begin == int64_t(c1 - c0) * by);
+            for (int64_t k = begin; k < order.spanEnds[size_t(r)]; ++k) {
+                const auto [x, y] = order.blocks[size_t(k)];
+                CHECK(x >= c0);
+                CHECK(x < c1);
+                if (k > begin) CHECK(std::pair(y, x) > std::pair(order.blocks[size_t(k - 1)].second,
+                                                                 order.blocks[size_t(k - 1)].first));
+                ++seen[size_t(y * bx + x)];
+            }
+            begin = order.spanEnds[size_t(r)];
+        }
+        CHECK(std::count(seen.begin(), seen.end(), 1) == bx * by);
+    }
+    // One process draws them in picture order, through the shared count of one span.
+    const BlockOrder one = blocksBySpans(4, 3, 1);
+    ranks::resetTasks();
+    for (int64_t k = 0; k < 12; ++k) {
+        CHECK(ranks::nextTaskInSpans(one.spanEnds) == k);
+        CHECK(one.blocks[size_t(k)] == std::pair(int(k % 4), int(k / 4)));
+    }
+    CHECK(ranks::nextTaskInSpans(one.spanEnds) == 12);
 }
