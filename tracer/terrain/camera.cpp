@@ -11,17 +11,16 @@
 
 namespace terracast {
 
-Ray PinholeCamera::generate(double fx, double fy, double aspect) const {
-    const glm::dvec3 forward = glm::normalize(lookAtM - eyeM);
-    glm::dvec3 right = glm::cross(forward, up);
-    if (glm::dot(right, right) < 1e-20) right = glm::cross(forward, glm::dvec3(0, 1, 0));
-    right = glm::normalize(right);
-    const glm::dvec3 camUp = glm::cross(right, forward);
-    const double halfH = std::tan(radians(fovYDeg) * 0.5);
-    const double halfW = halfH * aspect;
-    const double sx = (2.0 * fx - 1.0) * halfW;
-    const double sy = (1.0 - 2.0 * fy) * halfH;
-    return Ray{eyeM, glm::normalize(forward + sx * right + sy * camUp)};
+PinholeCamera::Frame PinholeCamera::frame() const {
+    Frame f;
+    f.eye = eyeM;
+    f.forward = glm::normalize(lookAtM - eyeM);
+    glm::dvec3 right = glm::cross(f.forward, up);
+    if (glm::dot(right, right) < 1e-20) right = glm::cross(f.forward, glm::dvec3(0, 1, 0));
+    f.right = glm::normalize(right);
+    f.up = glm::cross(f.right, f.forward);
+    f.halfHeight = std::tan(radians(fovYDeg) * 0.5);
+    return f;
 }
 
 PinholeCamera autoCamera(const HeightGrid& grid, double aspect, double fovYDeg, std::optional<double> bottomM) {

@@ -71,6 +71,7 @@ void traceCameraRays(const TerrainSurface& surface, const PinholeCamera& camera,
                      int y0, int x1, int y1, Pixel&& pixel) {
     constexpr int kBundle = 8;
     const double aspect = double(width) / double(height);
+    const PinholeCamera::Frame frame = camera.frame();
     std::array<Ray, kBundle * kBundle> rays;
     std::array<std::optional<HeightFieldHit>, kBundle * kBundle> hits;
     for (int by = y0; by < y1; by += kBundle)
@@ -79,7 +80,7 @@ void traceCameraRays(const TerrainSurface& surface, const PinholeCamera& camera,
             size_t n = 0;
             for (int y = by; y < ey; ++y)
                 for (int x = bx; x < ex; ++x)
-                    rays[n++] = camera.generate((x + 0.5) / width, (y + 0.5) / height, aspect);
+                    rays[n++] = frame.generate((x + 0.5) / width, (y + 0.5) / height, aspect);
             surface.intersectBundle(std::span<const Ray>(rays.data(), n), {0.0, kInfinity},
                                     std::span<std::optional<HeightFieldHit>>(hits.data(), n));
             n = 0;
