@@ -21,7 +21,7 @@ namespace terracast {
 
 namespace {
 
-// Runs f(first, last) over [0, n) split into contiguous ranges, one per hardware thread; in the calling thread
+// Runs f(first, last) over [0, n) split into contiguous ranges, one per array-pass thread; in the calling thread
 // alone when the work (n * workPerItem, in rough element visits) is too small to pay for starting threads.
 // f must not throw.
 template <typename F>
@@ -31,16 +31,7 @@ void parallelRanges(int64_t n, int64_t workPerItem, F&& f) {
         f(int64_t(0), n);
         return;
     }
-    const int64_t threads = std::min<int64_t>(n, arrayPassThreads());
-    if (threads <= 1) {
-        f(int64_t(0), n);
-        return;
-    }
-    std::vector<std::thread> pool;
-    pool.reserve(size_t(threads - 1));
-    for (int64_t t = 1; t < threads; ++t) pool.emplace_back([&f, n, t, threads] { f(n * t / threads, n * (t + 1) / threads); });
-    f(int64_t(0), n / threads);
-    for (auto& thread : pool) thread.join();
+    runInSlices(n, std::min<int64_t>(n, arrayPassThreads()), f);
 }
 
 // One bit per flag, word by word in parallel (each word is written by one thread).

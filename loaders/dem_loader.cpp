@@ -64,6 +64,21 @@ std::string gdalReason() {
     return line.empty() ? std::string() : " (" + line + ")";
 }
 
+// GDAL's own threads (a GeoTIFF's blocks decoded in parallel under GDAL_NUM_THREADS) report through the process's
+// error handler rather than the reading thread's (QuietGdalErrors): quiet while one of these lives. A read that
+// fails is then read again on one thread, whose reason is the first failing block's, as without the threads
+// (loadWithGdal). Only while no other thread reads through GDAL.
+class QuietGdalThreads {
+public:
+    QuietGdalThreads() : saved_(CPLSetErrorHandler(CPLQuietErrorHandler)) {}
+    ~QuietGdalThreads() { CPLSetErrorHandler(saved_); }
+    QuietGdalThreads(const QuietGdalThreads&) = delete;
+    QuietGdalThreads& operator=(const QuietGdalThreads&) = delete;
+
+private:
+    CPLErrorHandler saved_;
+};
+
 // Refuses a band whose storage blocks are absurd for its raster. GDAL allocates one whole block (all bands of it
 // when they are pixel-interleaved) before decoding it, so a damaged header declaring, say, 32768 x 32768 tiles on
 // a 20 x 20 raster would otherwise cost gigabytes before any read fails. Real files use strips no larger than the
@@ -147,7 +162,7 @@ struct DemWindowReader::Impl {
             // its opening (GDAL_NUM_THREADS; other drivers ignore it). The 8193^2 DEFLATE GeoTIFF's load: 0.46 to
             // 0.63 s on one thread, 0.38 to 0.47 s on two (docs/bench.md).
             const std::string threads = std::to_string(wholeRaster ? arrayPassThreads() : 1);
-            CPLConfigOptionSetter decodeThreads("GDAL_NUM_THREADS", threads.c_str(), true);
+            CPLConfigOptionSetter decodeThreads("GDAL_NUM_THREADS", threads.c_str(), false);
             dataset.reset(GDALDataset::Open(source.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
         }
         if (!dataset) {
@@ -470,22 +485,35 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, c
     // Bands of about 2^21 samples, in whole storage blocks where a block is shorter than that, whose decoded blocks
     // are dropped from GDAL's cache once read: a block is decoded once (unless taller than a band: a raster
     // stored as a few strips), and the cache does not hold the raster beside the grid.
+    const QuietGdalThreads quietDecoders;  // the whole raster's blocks are decoded on GDAL's threads
     const int64_t budgetRows = std::max<int64_t>(1, (int64_t{1} << 21) / width);
     const int64_t rowsPerBand =
         reader.blockRows <= budgetRows ? budgetRows / reader.blockRows * reader.blockRows : budgetRows;
     for (int64_t r = firstRow; r < endRow; r += rowsPerBand) {
         const auto [j0, j1] = gridRows(r, std::min(endRow, r + rowsPerBand));
         const auto offset = static_cast<size_t>(j0 * width);
-        if (codes) {
-            // Flags come with the codes; without nodata they go to a scratch band.
-            uint8_t* flags = valid.empty() ? nullptr : valid.data() + offset;
-            if (flags == nullptr) {
-                bandValid.resize(static_cast<size_t>((j1 - j0) * width));
-                flags = bandValid.data();
+        const auto readBand = [&](const DemWindowReader::Impl& from) {
+            if (codes) {
+                // Flags come with the codes; without nodata they go to a scratch band.
+                uint8_t* flags = valid.empty() ? nullptr : valid.data() + offset;
+                if (flags == nullptr) {
+                    bandValid.resize(static_cast<size_t>((j1 - j0) * width));
+                    flags = bandValid.data();
+                }
+                from.readWholeMetres(0, j0, width, j1 - j0, metres.data() + offset, flags);
+            } else {
+                from.read(0, j0, width, j1 - j0, heightsM.data() + offset, valid.empty() ? nullptr : valid.data() + offset);
             }
-            reader.readWholeMetres(0, j0, width, j1 - j0, metres.data() + offset, flags);
-        } else {
-            reader.read(0, j0, width, j1 - j0, heightsM.data() + offset, valid.empty() ? nullptr : valid.data() + offset);
+        };
+        try {
+            readBand(reader);
+        } catch (const InputError&) {
+            if (arrayPassThreads() <= 1) throw;
+            // Read again on this thread alone (an opening that decodes on one thread), so that the error names the
+            // first block that fails, as it does without GDAL's threads, not whichever a thread met first.
+            const DemWindowReader::Impl alone(path, options, false, openPath);
+            readBand(alone);
+            throw;  // read this time: the first failure stands
         }
         reader.dropCachedBlocks();
     }

@@ -23,7 +23,6 @@
 #include <fstream>
 #include <stdexcept>
 #include <string_view>
-#include <thread>
 #include <utility>
 
 namespace terracast {
@@ -194,15 +193,10 @@ void writeImage(const std::string& path, const RgbImage& image) {
         std::vector<uint8_t> levels(image.rgb.size());
         // The transfer function's power takes about 7 ns a value: a 1920 x 1080 picture's 6.2 million values
         // are converted on the array-pass threads (heightfield/large_buffer.h), in contiguous slices.
-        const size_t n = levels.size();
-        const size_t threads = n < (size_t(1) << 20) ? 1 : size_t(arrayPassThreads());
-        auto convert = [&](size_t t) {
-            for (size_t k = n * t / threads, end = n * (t + 1) / threads; k < end; ++k) levels[k] = srgbByte(image.rgb[k]);
-        };
-        std::vector<std::thread> pool;
-        for (size_t t = 1; t < threads; ++t) pool.emplace_back(convert, t);
-        convert(0);
-        for (auto& thread : pool) thread.join();
+        const int64_t n = int64_t(levels.size());
+        runInSlices(n, n < (int64_t(1) << 20) ? 1 : arrayPassThreads(), [&](int64_t k0, int64_t k1) {
+            for (int64_t k = k0; k < k1; ++k) levels[size_t(k)] = srgbByte(image.rgb[size_t(k)]);
+        });
         bytes = png::encode(path, image.width, image.height, png::Layout::SrgbRgb8, levels.data());
     } else {
         bytes = encodeInMemory(path, image.width, image.height, 3, PixelType::Half, "Linear", PixelType::Float,

@@ -44,7 +44,7 @@ std::string encode(const std::string& name, int width, int height, Layout layout
     if (rgb) {
         // Pictures: every row filtered by Sub and deflated at zlib's level 3, rather than the library's default
         // (each row's best of the five filters, level 6). On rendered terrain, a map view and a scene, measured
-        // in docs/bench.md ("Writing the picture"): 3.5 to 4.5 times faster, files 2 to 10 % larger.
+        // in docs/bench.md ("Writing the picture"): 4.1 to 4.5 times faster, files 2 to 10 % larger.
         check(spng_set_option(ctx.get(), SPNG_FILTER_CHOICE, SPNG_FILTER_CHOICE_SUB), name, "filter");
         check(spng_set_option(ctx.get(), SPNG_IMG_COMPRESSION_LEVEL, 3), name, "compression level");
     }

@@ -9,6 +9,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace terracast::ranks {
 
@@ -16,9 +17,6 @@ namespace {
 
 const TerracastRanksApi* api = nullptr;  // set by start() in a launch
 int myRank = 0, rankCount = 1;
-std::atomic<int64_t> localTasks{0};
-// nextTaskInSpans's place: the span this rank draws from, and how many spans it has found spent.
-int spanCursor = 0, spansSpent = 0;
 bool finished = false;
 
 bool many() { return api != nullptr && rankCount > 1; }
@@ -85,38 +83,38 @@ void sumFloats(float* values, size_t count) {
 }
 
 namespace {
-int sharedWorkDepth = 0;
+// The collectives of a shared construction run on the thread that opened the scope.
+thread_local int sharedWorkDepth = 0;
 }  // namespace
 
 SharedWork::SharedWork() { ++sharedWorkDepth; }
 SharedWork::~SharedWork() { --sharedWorkDepth; }
 bool sharingWork() { return many() && sharedWorkDepth > 0; }
 
-void resetTasks() {
+SpanTasks::SpanTasks(std::vector<int64_t> spanEnds) : spanEnds_(std::move(spanEnds)), cursor_(myRank) {
     if (many()) api->resetTasks();
-    else localTasks = 0;
-    spanCursor = myRank;
-    spansSpent = 0;
 }
 
-int64_t nextTask() { return many() ? api->nextTask(0) : localTasks++; }
+int64_t SpanTasks::next() {
+    if (spanEnds_.empty()) return 0;
+    if (!many()) return std::min(local_++, spanEnds_.back());
+    if (int(spanEnds_.size()) != rankCount) return std::min(api->nextTask(0), spanEnds_.back());
+    return next(spanEnds_, myRank, cursor_, spent_, [](int s) { return api->nextTask(s); });
+}
 
-int64_t nextTaskInSpans(const std::vector<int64_t>& spanEnds) {
-    if (spanEnds.empty()) return 0;
-    const int64_t end = spanEnds.back();
-    if (!many() || int(spanEnds.size()) != rankCount) {
-        const int64_t task = nextTask();
-        return std::min(task, end);
-    }
-    while (spansSpent < rankCount) {
-        const int s = spanCursor;
+int64_t SpanTasks::next(const std::vector<int64_t>& spanEnds, int rank, int& cursor, int& spent,
+                        const std::function<int64_t(int)>& fetchAdd) {
+    (void)rank;
+    const int spans = int(spanEnds.size());
+    while (spent < spans) {
+        const int s = cursor;
         const int64_t begin = s == 0 ? 0 : spanEnds[size_t(s - 1)];
-        const int64_t task = begin + api->nextTask(s);
+        const int64_t task = begin + fetchAdd(s);
         if (task < spanEnds[size_t(s)]) return task;
-        ++spansSpent;
-        spanCursor = (spanCursor + 1) % rankCount;
+        ++spent;
+        cursor = (cursor + 1) % spans;
     }
-    return end;
+    return spanEnds.empty() ? 0 : spanEnds.back();
 }
 
 void abortAll(int code) {

@@ -6,6 +6,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <atomic>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -52,20 +54,29 @@ public:
 // True inside a SharedWork of a launch of more than one rank.
 bool sharingWork();
 
-// Starts a new shared count of tasks (collective).
-void resetTasks();
+// The tasks of one job, 0 .. spanEnds.back() - 1, handed out over the ranks (the dynamic load balancing of tiles
+// and picture blocks), cut into spans: span s ends (exclusive) at spanEnds[s]. With one span per rank, each rank
+// takes the tasks of its own span in order first, then helps with the others' (r + 1, r + 2, ... round), taking
+// their next tasks first come first served: a rank keeps to its part of the work (a part of the picture, which
+// reads a part of the DEM) while it lasts, and the load still balances at the end. With any other number of
+// spans, one shared count, first come first served. Every task goes to exactly one rank; next() returns
+// spanEnds.back() once none is left. Making one is collective under ranks (the shared counts start again); one
+// thread per rank calls next(). Without ranks the tasks come in order from a count of the object's own.
+class SpanTasks {
+public:
+    explicit SpanTasks(std::vector<int64_t> spanEnds);
+    int64_t next();
 
-// The next task of the shared count: 0, 1, 2, ... handed out once each over all ranks, first come first
-// served (the dynamic load balancing of tiles). Not collective.
-int64_t nextTask();
+    // The hand-out itself, for rank `rank` of spanEnds.size(), from shared counts that fetchAdd(s) reads and
+    // advances by one; `cursor` (the rank's own span to begin with) and `spent` (0) are the rank's place.
+    static int64_t next(const std::vector<int64_t>& spanEnds, int rank, int& cursor, int& spent,
+                        const std::function<int64_t(int)>& fetchAdd);
 
-// Tasks 0 .. spanEnds.back() - 1 cut into size() spans, span r ending (exclusive) at spanEnds[r]: each rank takes
-// the tasks of its own span in order first, then helps with the others' (r + 1, r + 2, ... round), taking their
-// next tasks first come first served. Every task goes to exactly one rank; spanEnds.back() once none is left.
-// So a rank keeps to a part of the work (a part of the picture, which reads a part of the DEM) while it lasts,
-// and the load still balances at the end. Starts after resetTasks(), every rank with the same spans; one
-// thread per rank calls it. Not collective. Without ranks (one span), the tasks in order.
-int64_t nextTaskInSpans(const std::vector<int64_t>& spanEnds);
+private:
+    std::vector<int64_t> spanEnds_;
+    int cursor_ = 0, spent_ = 0;
+    std::atomic<int64_t> local_{0};
+};
 
 // Ends every rank of the launch with `code` (MPI_Abort): after a failure on one rank, the others must not wait
 // for it. Without a launch it only exits.

@@ -92,7 +92,7 @@ TransmittanceTable::TransmittanceTable(const AtmosphereParameters& a) : a_(a), d
             depth_[size_t(j) * kMuSize + size_t(i)] = glm::vec3(opticalDepthToTop(a, r, mu, 32));
         }
     });
-    if (shared) ranks::sumFloats(&depth_[0].x, depth_.size() * 3);
+    if (shared) ranks::sumFloats(&depth_[0].x, depth_.size() * 3);  // optical depths: zero or positive
 }
 
 glm::dvec3 TransmittanceTable::opticalDepth(double r, double mu) const {
@@ -218,7 +218,8 @@ SkyTables::SkyTables(std::shared_ptr<const TransmittanceTable> transmittance, do
         }
     });
     if (shared) {
-        // x + 0 = x: each entry comes out as the one rank that computed it made it.
+        // Every entry is zero or positive (radiances, optical depths), and x + 0 = x for those: each entry comes out
+        // as the one rank that computed it made it.
         static_assert(sizeof(Texel) == 9 * sizeof(float), "a texel is nine floats");
         for (std::vector<Texel>* table : {&sky_, &ground_, &aerial_})
             ranks::sumFloats(reinterpret_cast<float*>(table->data()), table->size() * 9);

@@ -141,11 +141,10 @@ Film renderTerrain(const HeightGrid& grid, const TerrainSurface& surface, const 
             limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                           static_cast<size_t>(s.threads));
         // Each rank starts on its own columns of blocks, a part of the picture and so mostly a part of the DEM;
-        // once they are done it helps with the others' (ranks::nextTaskInSpans). One process: picture order.
+        // once they are done it helps with the others' (ranks::SpanTasks). One process: picture order.
         const BlockOrder order = blocksBySpans(blocksX, blocksY, ranks::size());
-        ranks::resetTasks();
-        for (int64_t k = ranks::nextTaskInSpans(order.spanEnds); k < int64_t(order.blocks.size());
-             k = ranks::nextTaskInSpans(order.spanEnds)) {
+        ranks::SpanTasks tasks(order.spanEnds);
+        for (int64_t k = tasks.next(); k < int64_t(order.blocks.size()); k = tasks.next()) {
             const int bx = order.blocks[size_t(k)].first * block, by = order.blocks[size_t(k)].second * block;
             const int bw = std::min(block, s.width - bx), bh = std::min(block, s.height - by);
             // The thread limit is set above, once for every block.

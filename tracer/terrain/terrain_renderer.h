@@ -91,7 +91,7 @@ void traceCameraRays(const TerrainSurface& surface, const PinholeCamera& camera,
 
 // The order in which the ranks of a launch draw a picture's blocks (blocksX x blocksY of them) when the picture is
 // shared over `spans` ranks: span r is the blocks of columns [blocksX r / spans, blocksX (r + 1) / spans), row by
-// row, ending (exclusive) at spanEnds[r] in `blocks` (ranks::nextTaskInSpans). One span is picture order.
+// row, ending (exclusive) at spanEnds[r] in `blocks` (ranks::SpanTasks). One span is picture order.
 struct BlockOrder {
     std::vector<std::pair<int, int>> blocks;  // (column, row) of each task
     std::vector<int64_t> spanEnds;

@@ -131,7 +131,8 @@ ProductCount writeVertexProduct(const std::string& path, bool resume, const Load
             }
     const double total = before.back();
     const auto showProgress = progressWithTiles(listener, dem.grid);
-    ranks::resetTasks();
+    // The tiles left, dealt over the ranks from one shared count (collective: every rank makes it here).
+    ranks::SpanTasks tasks({int64_t(todo.size())});
     // An interruption or a failure keeps the finished tiles: say where, for --resume.
     struct KeptTiles {
         const TiledGeoTiffWriter& writer;
@@ -147,7 +148,7 @@ ProductCount writeVertexProduct(const std::string& path, bool resume, const Load
     } keptTiles{writer, listener};
     std::future<void> pending;
     const auto tilesStart = std::chrono::steady_clock::now();
-    for (int64_t k = ranks::nextTask(); k < int64_t(todo.size()); k = ranks::nextTask()) {
+    for (int64_t k = tasks.next(); k < int64_t(todo.size()); k = tasks.next()) {
         const auto [tx, ty] = todo[size_t(k)];
         const TiledGeoTiffWriter::Window w = writer.window(tx, ty);
         const double vertices = double(w.width() * w.height());

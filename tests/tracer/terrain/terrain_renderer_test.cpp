@@ -1,6 +1,7 @@
 // The terrain renderer: camera framing, analytic shading of simple grids, and a golden image of a real DEM.
 #include "loaders/dem_loader.h"
 #include "loaders/image_io.h"
+#include "tracer/core/angles.h"
 #include "tracer/core/ranks.h"
 #include "tracer/terrain/terrain_renderer.h"
 #include "support/golden.h"
@@ -220,12 +221,92 @@ TEST_CASE("Ranks' picture blocks: each rank's span is its own columns, and every
         }
         CHECK(std::count(seen.begin(), seen.end(), 1) == bx * by);
     }
-    // One process draws them in picture order, through the shared count of one span.
+    // One process draws them in picture order, from a count of its own.
     const BlockOrder one = blocksBySpans(4, 3, 1);
-    ranks::resetTasks();
+    ranks::SpanTasks tasks(one.spanEnds);
     for (int64_t k = 0; k < 12; ++k) {
-        CHECK(ranks::nextTaskInSpans(one.spanEnds) == k);
+        CHECK(tasks.next() == k);
         CHECK(one.blocks[size_t(k)] == std::pair(int(k % 4), int(k / 4)));
     }
-    CHECK(ranks::nextTaskInSpans(one.spanEnds) == 12);
+    CHECK(tasks.next() == 12);
+    CHECK(tasks.next() == 12);
+}
+
+TEST_CASE("Ranks' picture blocks: simulated ranks keep to their spans, then share the rest, each block once",
+          "[terrain]") {
+    // Ranks taking turns in a scrambled order, each drawing from shared counts as the MPI window holds them.
+    for (const int ranks : {2, 3, 5}) {
+        const BlockOrder order = blocksBySpans(15, 9, ranks);
+        std::vector<int64_t> counts(static_cast<size_t>(ranks), 0);
+        const auto fetchAdd = [&](int s) { return counts[size_t(s)]++; };
+        std::vector<int> cursor(static_cast<size_t>(ranks)), spent(static_cast<size_t>(ranks), 0);
+        for (int r = 0; r < ranks; ++r) cursor[size_t(r)] = r;
+        std::vector<std::vector<int64_t>> drawn(static_cast<size_t>(ranks));
+        std::vector<bool> done(static_cast<size_t>(ranks), false);
+        std::vector<int> seen(order.blocks.size(), 0);
+        uint32_t state = 7;
+        for (int finished = 0; finished < ranks;) {
+            state = state * 1664525u + 1013904223u;
+            const int r = int((state >> 16) % uint32_t(ranks));
+            if (done[size_t(r)]) continue;
+            const int64_t k = ranks::SpanTasks::next(order.spanEnds, r, cursor[size_t(r)], spent[size_t(r)], fetchAdd);
+            if (k >= int64_t(order.blocks.size())) {
+                done[size_t(r)] = true;
+                ++finished;
+                continue;
+            }
+            ++seen[size_t(k)];
+            drawn[size_t(r)].push_back(k);
+        }
+        INFO(ranks << " ranks");
+        CHECK(std::count(seen.begin(), seen.end(), 1) == std::ptrdiff_t(seen.size()));
+        for (int r = 0; r < ranks; ++r) {
+            // Each rank's first draws are its own span's first tasks, in order.
+            const int64_t begin = r == 0 ? 0 : order.spanEnds[size_t(r - 1)];
+            REQUIRE(!drawn[size_t(r)].empty());
+            CHECK(drawn[size_t(r)].front() == begin);
+            // Then on in its own span (its draws there rising) until the span is spent.
+            const auto& d = drawn[size_t(r)];
+            size_t own = 1;
+            while (own < d.size() && d[own] >= begin && d[own] < order.spanEnds[size_t(r)]) {
+                CHECK(d[own] > d[own - 1]);
+                ++own;
+            }
+            // Every draw after that is from another span.
+            for (size_t i = own; i < d.size(); ++i) CHECK((d[i] < begin || d[i] >= order.spanEnds[size_t(r)]));
+        }
+    }
+}
+
+TEST_CASE("Camera rays from the frame worked out once are the per-ray formula's, bit for bit", "[terrain]") {
+    // The formula as it reads when everything is worked out for each ray.
+    const auto perRay = [](const PinholeCamera& c, double fx, double fy, double aspect) {
+        const glm::dvec3 forward = glm::normalize(c.lookAtM - c.eyeM);
+        glm::dvec3 right = glm::cross(forward, c.up);
+        if (glm::dot(right, right) < 1e-20) right = glm::cross(forward, glm::dvec3(0, 1, 0));
+        right = glm::normalize(right);
+        const glm::dvec3 camUp = glm::cross(right, forward);
+        const double halfH = std::tan(radians(c.fovYDeg) * 0.5);
+        const double sx = (2.0 * fx - 1.0) * (halfH * aspect), sy = (1.0 - 2.0 * fy) * halfH;
+        return Ray{c.eyeM, glm::normalize(forward + sx * right + sy * camUp)};
+    };
+    PinholeCamera tilted;
+    tilted.eyeM = {1234.5, -987.25, 2500.125};
+    tilted.lookAtM = {40000.0, 31000.5, 120.0};
+    tilted.fovYDeg = 37.5;
+    PinholeCamera straightDown;  // up parallel to the view: the other cross product
+    straightDown.eyeM = {10.0, 20.0, 5000.0};
+    straightDown.lookAtM = {10.0, 20.0, 0.0};
+    straightDown.fovYDeg = 60.0;
+    for (const PinholeCamera& c : {tilted, straightDown}) {
+        const PinholeCamera::Frame frame = c.frame();
+        size_t differ = 0;
+        for (int y = 0; y < 61; ++y)
+            for (int x = 0; x < 83; ++x) {
+                const double fx = (x + 0.5) / 83, fy = (y + 0.5) / 61, aspect = 83.0 / 61.0;
+                const Ray a = frame.generate(fx, fy, aspect), b = perRay(c, fx, fy, aspect), g = c.generate(fx, fy, aspect);
+                differ += !(a.origin == b.origin && a.dir == b.dir && g.dir == b.dir);
+            }
+        CHECK(differ == 0);
+    }
 }
