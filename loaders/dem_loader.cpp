@@ -490,7 +490,9 @@ LoadedDem loadWithGdal(const std::string& path, const DemLoadOptions& options, c
     const int64_t rowsPerBand =
         reader.blockRows <= budgetRows ? budgetRows / reader.blockRows * reader.blockRows : budgetRows;
     for (int64_t r = firstRow; r < endRow; r += rowsPerBand) {
-        const auto [j0, j1] = gridRows(r, std::min(endRow, r + rowsPerBand));
+        // (Not a structured binding: the lambda below captures them, which clang 14 refuses.)
+        const std::pair<int64_t, int64_t> band = gridRows(r, std::min(endRow, r + rowsPerBand));
+        const int64_t j0 = band.first, j1 = band.second;
         const auto offset = static_cast<size_t>(j0 * width);
         const auto readBand = [&](const DemWindowReader::Impl& from) {
             if (codes) {
