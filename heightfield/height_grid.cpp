@@ -447,7 +447,9 @@ void HeightGrid::buildPyramid() {
             pyramidParentLevel(pyramidMinCodes_.data() + (levelStart_[size_t(k - 2)] - minStart), px, py, false,
                                pyramidMinCodes_.data() + (levelStart_[size_t(k - 1)] - minStart));
     }
-    pyramidBuildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const auto end = std::chrono::steady_clock::now();
+    pyramidBuildSeconds_ = std::chrono::duration<double>(end - start).count();
+    buildSeconds_ = std::chrono::duration<double>(end - constructed_).count();
 }
 
 // One array for all levels, so the traversal finds a level's blocks from two small tables; the minimum pyramid

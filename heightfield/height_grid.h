@@ -6,6 +6,7 @@
 
 #include <glm/glm.hpp>
 
+#include <chrono>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -253,6 +254,9 @@ public:
     int pyramidLevels() const { return int(levelStart_.size()); }
     // Seconds the last pyramid build took.
     double pyramidBuildSeconds() const { return pyramidBuildSeconds_; }
+    // Seconds the grid took to make from its samples, from its constructor's start to its pyramid's end (codes,
+    // validity, height range and the pyramid); 0 for a tiled grid.
+    double buildSeconds() const { return buildSeconds_; }
     // Blocks along x and y at level k.
     int64_t pyramidBlocksX(int k) const { return (cellsX() + (int64_t(1) << k) - 1) >> k; }
     int64_t pyramidBlocksY(int k) const { return (cellsY() + (int64_t(1) << k) - 1) >> k; }
@@ -336,6 +340,8 @@ private:
     double pyramidScale_ = 1.0;
     double pyramidCodesPerMetre_ = 1.0;  // 1 / pyramidScale_
     double pyramidBuildSeconds_ = 0.0;
+    std::chrono::steady_clock::time_point constructed_ = std::chrono::steady_clock::now();
+    double buildSeconds_ = 0.0;
     std::shared_ptr<const TileSource> tiles_;  // tiled grids only
     int tileLevels_ = 0;
 };

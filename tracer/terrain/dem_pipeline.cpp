@@ -366,11 +366,12 @@ std::string renderPhasesLine(const RenderPhaseSeconds& p) {
     const double threadSeconds =
         p.cameraRayThreadSeconds + p.shadowRayThreadSeconds + p.skyRayThreadSeconds + p.shadingThreadSeconds;
     const auto share = [&](double part) { return threadSeconds > 0.0 ? 100.0 * part / threadSeconds : 0.0; };
-    return fmt::format("phases: read, decode and grid {:.4f} s, pyramid {:.4f} s, surface {:.4f} s, trace and shade "
-                       "{:.4f} s (sky tables {:.4f} s; the work tiles' thread time: camera rays {:.4f} s {:.0f} %, shadow "
-                       "rays {:.4f} s {:.0f} %, sky-visibility rays {:.4f} s {:.0f} %, shading {:.4f} s {:.0f} %), write "
-                       "{:.4f} s; total {:.4f} s",
-                       p.load - p.pyramid, p.pyramid, p.build, p.render, p.skySetup, p.cameraRayThreadSeconds,
+    // The decoders read as they decode (libspng from the file, GDAL block by block): one phase.
+    return fmt::format("phases: read and decode {:.4f} s, grid {:.4f} s, pyramid {:.4f} s, surface {:.4f} s, trace and "
+                       "shade {:.4f} s (sky tables {:.4f} s; the work tiles' thread time: camera rays {:.4f} s {:.0f} %, "
+                       "shadow rays {:.4f} s {:.0f} %, sky-visibility rays {:.4f} s {:.0f} %, shading {:.4f} s {:.0f} %), "
+                       "write {:.4f} s; total {:.4f} s",
+                       std::max(0.0, p.load - p.pyramid - p.grid), p.grid, p.pyramid, p.build, p.render, p.skySetup, p.cameraRayThreadSeconds,
                        share(p.cameraRayThreadSeconds), p.shadowRayThreadSeconds, share(p.shadowRayThreadSeconds),
                        p.skyRayThreadSeconds, share(p.skyRayThreadSeconds), p.shadingThreadSeconds,
                        share(p.shadingThreadSeconds),
@@ -448,6 +449,7 @@ RenderPhaseSeconds renderPerspective(const DemRenderOptions& o, const RunListene
     phases.write = seconds(rendered, written);
     phases.total = seconds(start, written);
     phases.pyramid = grid.tiled() ? 0.0 : grid.pyramidBuildSeconds();
+    phases.grid = grid.tiled() ? 0.0 : std::max(0.0, grid.buildSeconds() - grid.pyramidBuildSeconds());
     phases.skySetup = stats.setupSeconds;
     phases.cameraRayThreadSeconds = stats.cameraRaySeconds;
     phases.shadowRayThreadSeconds = stats.shadowRaySeconds;

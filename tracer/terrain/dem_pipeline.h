@@ -125,6 +125,7 @@ std::vector<uint8_t> mapViewPixels(const MapImage& image);
 struct RenderPhaseSeconds {
     double load = 0.0;    // reading the DEM (and, for the direct tracer, making its pyramid) and setting the view
     double pyramid = 0.0; // of `load`: the whole grid's pyramid (0 for a DEM held as tiles)
+    double grid = 0.0;    // of `load`: making the grid from its samples, the pyramid apart (0 as tiles)
     double build = 0.0;   // the surface: nothing more for the direct tracer, Embree's buffers and BVH
     double render = 0.0;  // tracing and shading the picture
     double write = 0.0;   // encoding and writing the picture
