@@ -91,6 +91,11 @@ SharedWork::SharedWork() { ++sharedWorkDepth; }
 SharedWork::~SharedWork() { --sharedWorkDepth; }
 bool sharingWork() { return many() && sharedWorkDepth > 0; }
 
+WorkShare workShare() {
+    if (!sharingWork()) return {};
+    return {true, myRank, rankCount};
+}
+
 SpanTasks::SpanTasks(std::vector<int64_t> spanEnds) : spanEnds_(std::move(spanEnds)), cursor_(myRank) {
     if (many()) api->resetTasks();
 }
@@ -99,12 +104,11 @@ int64_t SpanTasks::next() {
     if (spanEnds_.empty()) return 0;
     if (!many()) return std::min(local_++, spanEnds_.back());
     if (int(spanEnds_.size()) != rankCount) return std::min(api->nextTask(0), spanEnds_.back());
-    return next(spanEnds_, myRank, cursor_, spent_, [](int s) { return api->nextTask(s); });
+    return next(spanEnds_, cursor_, spent_, [](int s) { return api->nextTask(s); });
 }
 
-int64_t SpanTasks::next(const std::vector<int64_t>& spanEnds, int rank, int& cursor, int& spent,
+int64_t SpanTasks::next(const std::vector<int64_t>& spanEnds, int& cursor, int& spent,
                         const std::function<int64_t(int)>& fetchAdd) {
-    (void)rank;
     const int spans = int(spanEnds.size());
     while (spent < spans) {
         const int s = cursor;

@@ -53,6 +53,13 @@ public:
 };
 // True inside a SharedWork of a launch of more than one rank.
 bool sharingWork();
+// This rank's share of work split k mod K: inside a SharedWork, the entries k with k mod size() = rank(); else all.
+struct WorkShare {
+    bool shared = false;
+    int rank = 0, stride = 1;
+    bool mine(int64_t k) const { return k % stride == rank; }
+};
+WorkShare workShare();
 
 // The tasks of one job, 0 .. spanEnds.back() - 1, handed out over the ranks (the dynamic load balancing of tiles
 // and picture blocks), cut into spans: span s ends (exclusive) at spanEnds[s]. With one span per rank, each rank
@@ -67,9 +74,9 @@ public:
     explicit SpanTasks(std::vector<int64_t> spanEnds);
     int64_t next();
 
-    // The hand-out itself, for rank `rank` of spanEnds.size(), from shared counts that fetchAdd(s) reads and
+    // The hand-out itself, for one rank of spanEnds.size(), from shared counts that fetchAdd(s) reads and
     // advances by one; `cursor` (the rank's own span to begin with) and `spent` (0) are the rank's place.
-    static int64_t next(const std::vector<int64_t>& spanEnds, int rank, int& cursor, int& spent,
+    static int64_t next(const std::vector<int64_t>& spanEnds, int& cursor, int& spent,
                         const std::function<int64_t(int)>& fetchAdd);
 
 private:

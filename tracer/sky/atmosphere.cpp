@@ -78,10 +78,9 @@ TransmittanceTable::TransmittanceTable(const AtmosphereParameters& a) : a_(a), d
     const double H = std::sqrt(Rt * Rt - R * R);
     // Under ranks sharing their work, rank r fills the rows j with j mod K = r; the sum over the ranks completes
     // the table on every rank (as SkyTables does).
-    const bool shared = ranks::sharingWork();
-    const int rank = shared ? ranks::rank() : 0, stride = shared ? ranks::size() : 1;
+    const ranks::WorkShare share = ranks::workShare();
     tbb::parallel_for(0, kRSize, [&](int j) {
-        if (j % stride != rank) return;
+        if (!share.mine(j)) return;
         const double rho = H * double(j) / (kRSize - 1);
         const double r = std::sqrt(rho * rho + R * R);
         const double dMin = Rt - r, dMax = rho + H;
@@ -92,7 +91,7 @@ TransmittanceTable::TransmittanceTable(const AtmosphereParameters& a) : a_(a), d
             depth_[size_t(j) * kMuSize + size_t(i)] = glm::vec3(opticalDepthToTop(a, r, mu, 32));
         }
     });
-    if (shared) ranks::sumFloats(&depth_[0].x, depth_.size() * 3);  // optical depths: zero or positive
+    if (share.shared) ranks::sumFloats(&depth_[0].x, depth_.size() * 3);  // optical depths: zero or positive
 }
 
 glm::dvec3 TransmittanceTable::opticalDepth(double r, double mu) const {
@@ -192,13 +191,11 @@ SkyTables::SkyTables(std::shared_ptr<const TransmittanceTable> transmittance, do
     };
     // Under ranks sharing their work (ranks::SharedWork), rank r fills the columns c with c mod K = r and the
     // others stay zero until the sum over the ranks completes them.
-    const bool shared = ranks::sharingWork();
-    const int rank = shared ? ranks::rank() : 0, stride = shared ? ranks::size() : 1;
-    auto mine = [&](int c) { return c % stride == rank; };
+    const ranks::WorkShare share = ranks::workShare();
     sky_.resize(size_t(kAzimuthSize) * kSkyRows);
     ground_.resize(size_t(kAzimuthSize) * kGroundRows);
     tbb::parallel_for(0, kAzimuthSize, [&](int c) {
-        if (!mine(c)) return;
+        if (!share.mine(c)) return;
         for (int k = 0; k < kSkyRows; ++k)
             sky_[size_t(k) * kAzimuthSize + size_t(c)] =
                 march(direction(c, kAzimuthSize, zOfRow(k, false, kSkyRows)), 1e30, 64, nullptr);
@@ -208,7 +205,7 @@ SkyTables::SkyTables(std::shared_ptr<const TransmittanceTable> transmittance, do
     });
     aerial_.resize(size_t(kAerialAzimuth) * kAerialRows * kAerialSlices);
     tbb::parallel_for(0, kAerialAzimuth, [&](int c) {
-        if (!mine(c)) return;
+        if (!share.mine(c)) return;
         std::vector<Texel> slices;
         for (int k = 0; k < kAerialRows; ++k) {
             const double x = 2.0 * k / (kAerialRows - 1) - 1.0;
@@ -217,7 +214,7 @@ SkyTables::SkyTables(std::shared_ptr<const TransmittanceTable> transmittance, do
                       aerial_.begin() + ptrdiff_t((size_t(k) * kAerialAzimuth + size_t(c)) * kAerialSlices));
         }
     });
-    if (shared) {
+    if (share.shared) {
         // Every entry is zero or positive (radiances, optical depths), and x + 0 = x for those: each entry comes out
         // as the one rank that computed it made it.
         static_assert(sizeof(Texel) == 9 * sizeof(float), "a texel is nine floats");

@@ -249,7 +249,7 @@ TEST_CASE("Ranks' picture blocks: simulated ranks keep to their spans, then shar
             state = state * 1664525u + 1013904223u;
             const int r = int((state >> 16) % uint32_t(ranks));
             if (done[size_t(r)]) continue;
-            const int64_t k = ranks::SpanTasks::next(order.spanEnds, r, cursor[size_t(r)], spent[size_t(r)], fetchAdd);
+            const int64_t k = ranks::SpanTasks::next(order.spanEnds, cursor[size_t(r)], spent[size_t(r)], fetchAdd);
             if (k >= int64_t(order.blocks.size())) {
                 done[size_t(r)] = true;
                 ++finished;
